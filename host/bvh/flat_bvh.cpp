@@ -1,0 +1,319 @@
+#include "host/bvh/flat_bvh.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace aw {
+
+namespace {
+
+void embree_error(void*, RTCError code, const char* str) {
+  // Reported through rtcGetDeviceError at the call sites; keep a message on stderr too since
+  // Embree's own text is the most specific description of the problem.
+  fprintf(stderr, "archwave: Embree error %d: %s\n", int(code), str ? str : "");
+}
+
+// Tree as Embree's builder hands it to us (allocated in Embree's thread-local arenas, freed
+// with the RTCBVH).
+struct BuildNode {
+  bool leaf;
+  BuildNode* child[2];
+  RTCBounds bounds[2];
+  uint32_t count;
+  const uint32_t* prims;  // leaf: primIDs (in Embree's allocator memory)
+};
+
+void* create_node(RTCThreadLocalAllocator alloc, unsigned num_children, void*) {
+  if (num_children != 2) return nullptr;  // maxBranchingFactor is 2
+  auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
+  n->leaf = false;
+  n->child[0] = n->child[1] = nullptr;
+  n->count = 0;
+  n->prims = nullptr;
+  return n;
+}
+
+void set_children(void* node, void** children, unsigned num, void*) {
+  auto* n = static_cast<BuildNode*>(node);
+  for (unsigned i = 0; i < num && i < 2; ++i) n->child[i] = static_cast<BuildNode*>(children[i]);
+}
+
+void set_bounds(void* node, const RTCBounds** bounds, unsigned num, void*) {
+  auto* n = static_cast<BuildNode*>(node);
+  for (unsigned i = 0; i < num && i < 2; ++i) n->bounds[i] = *bounds[i];
+}
+
+void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t num, void*) {
+  auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
+  auto* ids = static_cast<uint32_t*>(rtcThreadLocalAlloc(alloc, sizeof(uint32_t) * std::max<size_t>(num, 1), 16));
+  for (size_t i = 0; i < num; ++i) ids[i] = prims[i].primID;
+  // Embree hands a leaf's primitives in build order; sort so the leaf content does not depend
+  // on how the parallel builder partitioned its work.
+  std::sort(ids, ids + num);
+  n->leaf = true;
+  n->child[0] = n->child[1] = nullptr;
+  n->count = uint32_t(num);
+  n->prims = ids;
+  return n;
+}
+
+struct Flattener {
+  const TriangleSoup& soup;
+  FlatBvh& out;
+
+  RTCBounds tri_bounds(const uint32_t* ids, uint32_t n) const {
+    RTCBounds b;
+    b.lower_x = b.lower_y = b.lower_z = std::numeric_limits<float>::infinity();
+    b.upper_x = b.upper_y = b.upper_z = -std::numeric_limits<float>::infinity();
+    for (uint32_t i = 0; i < n; ++i) {
+      const glm::uvec3& t = soup.indices[ids[i]];
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec3& p = soup.positions[t[k]];
+        b.lower_x = std::min(b.lower_x, p.x); b.upper_x = std::max(b.upper_x, p.x);
+        b.lower_y = std::min(b.lower_y, p.y); b.upper_y = std::max(b.upper_y, p.y);
+        b.lower_z = std::min(b.lower_z, p.z); b.upper_z = std::max(b.upper_z, p.z);
+      }
+    }
+    return b;
+  }
+
+  int emit_leaf(const uint32_t* ids, uint32_t n) {
+    int first = int(out.leaf_tris.size());
+    for (uint32_t i = 0; i < n; ++i) {
+      const glm::uvec3& t = soup.indices[ids[i]];
+      LeafTriangle lt;
+      const glm::vec3 &a = soup.positions[t.x], &b = soup.positions[t.y], &c = soup.positions[t.z];
+      lt.v0[0] = a.x; lt.v0[1] = a.y; lt.v0[2] = a.z;
+      uint32_t id = ids[i];
+      std::memcpy(&lt.v0[3], &id, 4);
+      lt.v1[0] = b.x; lt.v1[1] = b.y; lt.v1[2] = b.z; lt.v1[3] = 0.0f;
+      lt.v2[0] = c.x; lt.v2[1] = c.y; lt.v2[2] = c.z; lt.v2[3] = 0.0f;
+      out.leaf_tris.push_back(lt);
+    }
+    ++out.leaf_count;
+    return ~((first << 3) | int(n - 1));
+  }
+
+  static void put_bounds(BvhNode& node, int i, const RTCBounds& b) {
+    // f4[0]/f4[1]: x and y of child 0/1; f4[2]: z of both (kernels/types/bvh.h).
+    node.bounds[i * 4 + 0] = b.lower_x;
+    node.bounds[i * 4 + 1] = b.upper_x;
+    node.bounds[i * 4 + 2] = b.lower_y;
+    node.bounds[i * 4 + 3] = b.upper_y;
+    node.bounds[8 + i * 2 + 0] = b.lower_z;
+    node.bounds[8 + i * 2 + 1] = b.upper_z;
+  }
+
+  // A leaf larger than the kernel's limit (possible when Embree hits maxDepth) is split in
+  // halves into a small subtree of its own.
+  int child_ref(const uint32_t* ids, uint32_t n, int depth) {
+    if (n <= AW_BVH_LEAF_MAX) return emit_leaf(ids, n);
+    uint32_t h = n / 2;
+    return emit_inner_from_list(ids, h, ids + h, n - h, depth);
+  }
+
+  int emit_inner_from_list(const uint32_t* a, uint32_t na, const uint32_t* b, uint32_t nb, int depth) {
+    if (depth >= AW_BVH_STACK_SIZE - 1) throw std::runtime_error("BVH deeper than the traversal stack");
+    out.max_depth = std::max(out.max_depth, depth);
+    int index = int(out.nodes.size());
+    out.nodes.emplace_back();
+    RTCBounds ba = tri_bounds(a, na), bb = tri_bounds(b, nb);
+    int c0 = child_ref(a, na, depth + 1);
+    int c1 = child_ref(b, nb, depth + 1);
+    BvhNode& node = out.nodes[size_t(index)];
+    std::memset(&node, 0, sizeof(node));
+    put_bounds(node, 0, ba);
+    put_bounds(node, 1, bb);
+    node.child[0] = c0;
+    node.child[1] = c1;
+    return index;
+  }
+
+  int emit(const BuildNode* n, int depth) {
+    if (n->leaf) return child_ref(n->prims, n->count, depth);
+    if (depth >= AW_BVH_STACK_SIZE - 1) throw std::runtime_error("BVH deeper than the traversal stack");
+    out.max_depth = std::max(out.max_depth, depth);
+    int index = int(out.nodes.size());
+    out.nodes.emplace_back();  // children are emitted after their parent: depth-first preorder
+    int c0 = emit(n->child[0], depth + 1);
+    int c1 = emit(n->child[1], depth + 1);
+    BvhNode& node = out.nodes[size_t(index)];
+    std::memset(&node, 0, sizeof(node));
+    put_bounds(node, 0, n->bounds[0]);
+    put_bounds(node, 1, n->bounds[1]);
+    node.child[0] = c0;
+    node.child[1] = c1;
+    return index;
+  }
+};
+
+}  // namespace
+
+EmbreeDevice::EmbreeDevice() {
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) throw std::runtime_error("cannot create an Embree device (rtcNewDevice failed)");
+  rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
+}
+
+EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
+
+FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
+  FlatBvh out;
+  size_t n = soup.indices.size();
+  if (n == 0) return out;
+  if (n >= (size_t(1) << 28)) throw std::runtime_error("too many triangles for the BVH leaf encoding (2^28)");
+
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<RTCBuildPrimitive> prims(n);
+  for (size_t i = 0; i < n; ++i) {
+    const glm::uvec3& t = soup.indices[i];
+    glm::vec3 a = soup.positions[t.x], b = soup.positions[t.y], c = soup.positions[t.z];
+    glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
+    RTCBuildPrimitive& p = prims[i];
+    p.lower_x = lo.x; p.lower_y = lo.y; p.lower_z = lo.z; p.geomID = 0;
+    p.upper_x = hi.x; p.upper_y = hi.y; p.upper_z = hi.z; p.primID = unsigned(i);
+  }
+  RTCBVH bvh = rtcNewBVH(device.get());
+  RTCBuildArguments args = rtcDefaultBuildArguments();
+  args.byteSize = sizeof(args);
+  args.buildFlags = RTC_BUILD_FLAG_NONE;
+  args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;  // binned SAH; HIGH needs spatial-split callbacks
+  args.maxBranchingFactor = 2;
+  args.maxDepth = AW_BVH_STACK_SIZE - 8;  // leave room for oversized-leaf subtrees
+  args.sahBlockSize = 1;
+  args.minLeafSize = 1;
+  args.maxLeafSize = 4;
+  // Relative costs for the SAH: a box pair test vs one watertight triangle test, roughly as
+  // measured for our kernels (a node tests two boxes at once).
+  args.traversalCost = 1.0f;
+  args.intersectionCost = 1.0f;
+  args.bvh = bvh;
+  args.primitives = prims.data();
+  args.primitiveCount = n;
+  args.primitiveArrayCapacity = n;
+  args.createNode = create_node;
+  args.setNodeChildren = set_children;
+  args.setNodeBounds = set_bounds;
+  args.createLeaf = create_leaf;
+  args.splitPrimitive = nullptr;
+  args.buildProgress = nullptr;
+  args.userPtr = nullptr;
+  auto* root = static_cast<BuildNode*>(rtcBuildBVH(&args));
+  if (!root) {
+    rtcReleaseBVH(bvh);
+    throw std::runtime_error("Embree BVH build failed (error " +
+                             std::to_string(int(rtcGetDeviceError(device.get()))) + ")");
+  }
+  auto t1 = std::chrono::steady_clock::now();
+  out.nodes.reserve(n);
+  out.leaf_tris.reserve(n);
+  Flattener f{soup, out};
+  if (root->leaf) {
+    // A one-leaf tree still needs an inner root; both children are that leaf (see bvh.h).
+    out.nodes.emplace_back();
+    int leaf = f.child_ref(root->prims, root->count, 1);
+    BvhNode& node = out.nodes[0];
+    std::memset(&node, 0, sizeof(node));
+    RTCBounds b = f.tri_bounds(root->prims, root->count);
+    Flattener::put_bounds(node, 0, b);
+    Flattener::put_bounds(node, 1, b);
+    node.child[0] = leaf;
+    node.child[1] = leaf;
+    if (out.nodes.size() > 1) {
+      // the leaf was oversized and became a subtree: point both children at that subtree
+      node.child[0] = node.child[1] = 1;
+    }
+  } else {
+    f.emit(root, 0);
+  }
+  rtcReleaseBVH(bvh);
+  auto t2 = std::chrono::steady_clock::now();
+  out.build_seconds = std::chrono::duration<double>(t1 - t0).count();
+  out.flatten_seconds = std::chrono::duration<double>(t2 - t1).count();
+  return out;
+}
+
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup) {
+  scene_ = rtcNewScene(device.get());
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  if (!soup.indices.empty()) {
+    RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree reads 16 bytes per vertex with SSE: allocate through Embree (which pads).
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                          3 * sizeof(float), soup.positions.size()));
+    for (size_t i = 0; i < soup.positions.size(); ++i) {
+      v[3 * i + 0] = soup.positions[i].x;
+      v[3 * i + 1] = soup.positions[i].y;
+      v[3 * i + 2] = soup.positions[i].z;
+    }
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                               3 * sizeof(unsigned), soup.indices.size()));
+    for (size_t i = 0; i < soup.indices.size(); ++i) {
+      idx[3 * i + 0] = soup.indices[i].x;
+      idx[3 * i + 1] = soup.indices[i].y;
+      idx[3 * i + 2] = soup.indices[i].z;
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(scene_);
+}
+
+EmbreeScene::~EmbreeScene() {
+  if (scene_) rtcReleaseScene(scene_);
+}
+
+EmbreeScene::Hit EmbreeScene::intersect(glm::vec3 org, glm::vec3 dir, float t_min, float t_max) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = org.x; rh.ray.org_y = org.y; rh.ray.org_z = org.z;
+  rh.ray.dir_x = dir.x; rh.ray.dir_y = dir.y; rh.ray.dir_z = dir.z;
+  rh.ray.tnear = t_min;
+  rh.ray.tfar = t_max;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &ctx, &rh);
+  Hit h;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    h.t = t_max;
+    h.u = h.v = 0.0f;
+    h.prim = -1;
+  } else {
+    h.t = rh.ray.tfar;
+    h.u = rh.hit.u;
+    h.v = rh.hit.v;
+    h.prim = int(rh.hit.primID);
+  }
+  return h;
+}
+
+bool EmbreeScene::occluded(glm::vec3 org, glm::vec3 dir, float t_min, float t_max) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRay r;
+  r.org_x = org.x; r.org_y = org.y; r.org_z = org.z;
+  r.dir_x = dir.x; r.dir_y = dir.y; r.dir_z = dir.z;
+  r.tnear = t_min;
+  r.tfar = t_max;
+  r.time = 0.0f;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(scene_, &ctx, &r);
+  return r.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+}
+
+}  // namespace aw

@@ -1,0 +1,69 @@
+// Embree builds the tree (SAH, rtcBuildBVH); a single-threaded depth-first pass flattens it
+// into the layout the kernels traverse (kernels/types/bvh.h, docs/bvh-layout.md).
+// Also: the Embree scene the host scalar path and the tests cast rays with.
+#pragma once
+
+#include <embree3/rtcore.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "kernels/types/bvh.h"
+
+namespace aw {
+
+class EmbreeDevice {
+ public:
+  EmbreeDevice();
+  ~EmbreeDevice();
+  EmbreeDevice(const EmbreeDevice&) = delete;
+  EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+  RTCDevice get() const { return device_; }
+
+ private:
+  RTCDevice device_;
+};
+
+// All triangles of the scene in one list: ids are indices into `indices` (Embree's primID).
+struct TriangleSoup {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::uvec3> indices;
+};
+
+struct FlatBvh {
+  std::vector<BvhNode> nodes;        // nodes[0] is the root; empty for a scene with no triangles
+  std::vector<LeafTriangle> leaf_tris;
+  int max_depth = 0;
+  size_t leaf_count = 0;
+  double build_seconds = 0.0;    // Embree build
+  double flatten_seconds = 0.0;  // our depth-first pass
+};
+
+// Deterministic: the same soup gives byte-identical nodes and leaf_tris.
+FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup);
+
+// Embree's own scene over the same triangles (robust mode: watertight like our kernels).
+class EmbreeScene {
+ public:
+  EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+  RTCScene get() const { return scene_; }
+
+  struct Hit {
+    float t;
+    float u, v;
+    int prim;  // -1 = miss
+  };
+  Hit intersect(glm::vec3 org, glm::vec3 dir, float t_min, float t_max) const;
+  bool occluded(glm::vec3 org, glm::vec3 dir, float t_min, float t_max) const;
+
+ private:
+  RTCScene scene_ = nullptr;
+};
+
+}  // namespace aw

@@ -1,0 +1,138 @@
+#include "host/cl/cl_runtime.h"
+
+#include <chrono>
+#include <sstream>
+
+namespace aw {
+
+std::string format_bytes(uint64_t b) {
+  std::ostringstream s;
+  s.precision(3);
+  if (b >= (1ull << 30)) s << double(b) / double(1ull << 30) << " GiB";
+  else if (b >= (1ull << 20)) s << double(b) / double(1ull << 20) << " MiB";
+  else if (b >= 1024) s << double(b) / 1024.0 << " KiB";
+  else s << b << " B";
+  return s.str();
+}
+
+std::string cl_error_name(cl_int err) {
+  switch (err) {
+    case CL_DEVICE_NOT_FOUND: return "CL_DEVICE_NOT_FOUND";
+    case CL_DEVICE_NOT_AVAILABLE: return "CL_DEVICE_NOT_AVAILABLE";
+    case CL_MEM_OBJECT_ALLOCATION_FAILURE: return "CL_MEM_OBJECT_ALLOCATION_FAILURE";
+    case CL_OUT_OF_RESOURCES: return "CL_OUT_OF_RESOURCES";
+    case CL_OUT_OF_HOST_MEMORY: return "CL_OUT_OF_HOST_MEMORY";
+    case CL_BUILD_PROGRAM_FAILURE: return "CL_BUILD_PROGRAM_FAILURE";
+    case CL_INVALID_VALUE: return "CL_INVALID_VALUE";
+    case CL_INVALID_BUFFER_SIZE: return "CL_INVALID_BUFFER_SIZE";
+    case CL_INVALID_KERNEL_ARGS: return "CL_INVALID_KERNEL_ARGS";
+    case CL_INVALID_WORK_GROUP_SIZE: return "CL_INVALID_WORK_GROUP_SIZE";
+    case CL_INVALID_ARG_SIZE: return "CL_INVALID_ARG_SIZE";
+    case CL_PLATFORM_NOT_FOUND_KHR: return "CL_PLATFORM_NOT_FOUND_KHR (no OpenCL platform)";
+    default: return "OpenCL error " + std::to_string(err);
+  }
+}
+
+static const char* kInstallHint =
+    "no OpenCL platform found. archwave needs an OpenCL driver: on Debian/Ubuntu install PoCL "
+    "(CPU, works everywhere) with `apt-get install pocl-opencl-icd ocl-icd-libopencl1`, or your "
+    "GPU vendor's OpenCL driver (NVIDIA: a line `libnvidia-opencl.so.1` in "
+    "/etc/OpenCL/vendors/nvidia.icd). `clinfo -l` shows what the loader sees.";
+
+std::vector<DeviceInfo> list_devices() {
+  std::vector<cl::Platform> platforms;
+  try {
+    cl::Platform::get(&platforms);
+  } catch (const cl::Error& e) {
+    throw ClError(kInstallHint);
+  }
+  if (platforms.empty()) throw ClError(kInstallHint);
+  std::vector<DeviceInfo> out;
+  for (auto& p : platforms) {
+    std::vector<cl::Device> devs;
+    try {
+      p.getDevices(CL_DEVICE_TYPE_ALL, &devs);
+    } catch (const cl::Error&) {
+      continue;  // a platform with no usable device is skipped, not fatal
+    }
+    for (auto& d : devs) {
+      DeviceInfo i;
+      i.index = int(out.size());
+      i.platform = p.getInfo<CL_PLATFORM_NAME>();
+      i.name = d.getInfo<CL_DEVICE_NAME>();
+      cl_device_type t = d.getInfo<CL_DEVICE_TYPE>();
+      i.type = (t & CL_DEVICE_TYPE_GPU) ? "GPU" : (t & CL_DEVICE_TYPE_CPU) ? "CPU" : "other";
+      i.version = d.getInfo<CL_DEVICE_VERSION>();
+      i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+      i.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
+      i.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+      i.device = d;
+      out.push_back(i);
+    }
+  }
+  if (out.empty()) throw ClError(std::string("OpenCL platforms exist but expose no device; ") + kInstallHint);
+  return out;
+}
+
+std::string describe_devices(const std::vector<DeviceInfo>& devices) {
+  std::ostringstream s;
+  for (const auto& d : devices) {
+    s << "[" << d.index << "] " << d.name << "  (" << d.type << ", " << d.platform << ", " << d.version
+      << ", " << d.compute_units << " compute units, " << format_bytes(d.global_mem) << " memory, "
+      << format_bytes(d.max_alloc) << " max allocation)\n";
+  }
+  return s.str();
+}
+
+ClRuntime::ClRuntime(int device_index) {
+  auto devices = list_devices();
+  if (device_index < 0 || device_index >= int(devices.size())) {
+    throw ClError("--device " + std::to_string(device_index) + ": no such OpenCL device; available:\n" +
+                  describe_devices(devices));
+  }
+  info_ = devices[size_t(device_index)];
+  try {
+    context_ = cl::Context(info_.device);
+    queue_ = cl::CommandQueue(context_, info_.device);
+  } catch (const cl::Error& e) {
+    throw ClError("cannot open OpenCL device [" + std::to_string(device_index) + "] " + info_.name + ": " +
+                  e.what() + " (" + cl_error_name(e.err()) + ")");
+  }
+}
+
+cl::Program ClRuntime::build(const std::string& source, const std::string& options, double* seconds) {
+  auto t0 = std::chrono::steady_clock::now();
+  cl::Program program(context_, source);
+  try {
+    program.build({info_.device}, options.c_str());
+  } catch (const cl::Error& e) {
+    std::string log;
+    try {
+      log = program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device);
+    } catch (const cl::Error&) {
+      log = "(no build log available)";
+    }
+    throw ClError("OpenCL program build failed on " + info_.name + " (" + cl_error_name(e.err()) +
+                  ") with options \"" + options + "\"; build log:\n" + log);
+  }
+  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return program;
+}
+
+cl::Buffer ClRuntime::buffer(const char* what, size_t bytes, cl_mem_flags flags, const void* init) {
+  size_t n = bytes == 0 ? 4 : bytes;
+  if (n > info_.max_alloc) {
+    throw ClError(std::string("buffer '") + what + "' needs " + format_bytes(n) + " but " + info_.name +
+                  " allows at most " + format_bytes(info_.max_alloc) +
+                  " in one allocation; reduce the image size or the scene, or pick another --device");
+  }
+  try {
+    if (init && bytes) return cl::Buffer(context_, flags | CL_MEM_COPY_HOST_PTR, n, const_cast<void*>(init));
+    return cl::Buffer(context_, flags, n);
+  } catch (const cl::Error& e) {
+    throw ClError(std::string("cannot allocate buffer '") + what + "' of " + format_bytes(n) + " on " +
+                  info_.name + ": " + cl_error_name(e.err()));
+  }
+}
+
+}  // namespace aw

@@ -1,0 +1,67 @@
+// OpenCL device selection, program builds and buffers, with errors a user can act on.
+#pragma once
+
+#define CL_HPP_TARGET_OPENCL_VERSION 120
+#define CL_HPP_MINIMUM_OPENCL_VERSION 120
+#define CL_HPP_ENABLE_EXCEPTIONS
+#include <CL/opencl.hpp>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace aw {
+
+// Any OpenCL problem: no platform, bad device index, build failure (with the log), an
+// allocation the device cannot hold. what() is the complete user-facing message.
+class ClError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct DeviceInfo {
+  int index = 0;  // global index across platforms, what --device takes
+  std::string platform;
+  std::string name;
+  std::string type;  // "CPU", "GPU", ...
+  std::string version;
+  unsigned compute_units = 0;
+  uint64_t global_mem = 0;
+  uint64_t max_alloc = 0;
+  cl::Device device;
+};
+
+// All devices of all platforms, in platform order. Throws ClError (with how to install PoCL)
+// when there is no OpenCL platform at all.
+std::vector<DeviceInfo> list_devices();
+std::string describe_devices(const std::vector<DeviceInfo>& devices);
+
+// One device with a context and an in-order queue.
+class ClRuntime {
+ public:
+  explicit ClRuntime(int device_index);
+  const DeviceInfo& info() const { return info_; }
+  cl::Context& context() { return context_; }
+  cl::CommandQueue& queue() { return queue_; }
+
+  // Builds a program from assembled source; on failure throws ClError carrying the build log.
+  // Records the wall time of the build (cold or cached) in *seconds when given.
+  cl::Program build(const std::string& source, const std::string& options, double* seconds = nullptr);
+
+  // A device buffer of `bytes` (at least 1 byte, OpenCL forbids empty buffers). Refuses,
+  // with the sizes, what exceeds the device's largest single allocation. `what` names the
+  // buffer in messages.
+  cl::Buffer buffer(const char* what, size_t bytes, cl_mem_flags flags = CL_MEM_READ_WRITE,
+                    const void* init = nullptr);
+
+ private:
+  DeviceInfo info_;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+};
+
+std::string cl_error_name(cl_int err);
+std::string format_bytes(uint64_t bytes);
+
+}  // namespace aw

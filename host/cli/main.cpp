@@ -1,0 +1,155 @@
+// archwave: the command line.
+//
+// Exit codes (docs/cli.md): 0 success; 1 internal error; 2 bad command line; 3 scene error;
+// 4 OpenCL/device error; 5 output cannot be written; 130 interrupted (what was rendered is
+// written first).
+#include <CLI/CLI.hpp>
+
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "host/cl/cl_runtime.h"
+#include "host/cl/kernel_source.h"
+#include "host/film/image_io.h"
+#include "host/film/progress.h"
+#include "host/render/render.h"
+#include "host/scene/scene.h"
+
+namespace {
+
+enum ExitCode { kOk = 0, kInternal = 1, kUsage = 2, kScene = 3, kDevice = 4, kOutput = 5, kInterrupted = 130 };
+
+std::atomic<bool> g_cancel{false};
+
+extern "C" void on_sigint(int) {
+  // First ^C: finish the paths in flight and write what is done. Second: default action.
+  g_cancel.store(true);
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+}
+
+std::string default_output(const std::string& scene) {
+  return std::filesystem::path(scene).stem().string() + ".exr";
+}
+
+// Fails before rendering, not after an hour of it, when the output cannot be written.
+void check_output_writable(const std::string& path) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw aw::OutputError("cannot write \"" + path + "\": directory \"" + dir.string() + "\" does not exist");
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw aw::OutputError("cannot write \"" + path + "\": directory \"" + dir.string() + "\" is not writable");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "archwave " ARCHWAVE_VERSION
+      " - OpenCL wavefront path tracer with the Architectural material.\n"
+      "Renders SCENE (JSON, see docs/scene-format.md) to a float EXR and a PNG preview.\n"
+      "Flags override the scene file. Exit codes: 0 ok, 2 bad command line, 3 scene error,\n"
+      "4 OpenCL/device error, 5 output error, 130 interrupted (partial image written)."};
+  app.set_version_flag("--version", ARCHWAVE_VERSION);
+  std::string scene_path, output;
+  int spp = -1, width = -1, height = -1, device = 0, threads = 0;
+  long long seed = -1;
+  bool scalar = false, list = false, quiet = false, no_progress = false;
+  std::vector<std::string> defines;
+  std::string kernel_dir = aw::default_kernel_dir();
+  unsigned pool = 0;
+  app.add_option("scene", scene_path, "Scene file (JSON)");
+  app.add_option("-o,--output", output, "Output EXR (default: <scene name>.exr); the PNG preview goes beside it");
+  app.add_option("--spp", spp, "Samples per pixel (overrides render.spp)");
+  app.add_option("--seed", seed, "Random seed, 0..2^32-1 (overrides render.seed)");
+  app.add_option("--width", width, "Image width in pixels (overrides render.width)");
+  app.add_option("--height", height, "Image height in pixels (overrides render.height)");
+  app.add_option("--device", device, "OpenCL device index from --list-devices (default 0)");
+  app.add_flag("--scalar", scalar, "Render with the host scalar path (Embree rays, same kernel headers)");
+  app.add_flag("--list-devices", list, "List OpenCL platforms and devices, then exit");
+  app.add_option("-D,--define", defines,
+                 "Set any scene key, e.g. -D render.max_depth=4 -D materials.floor.diffuse.color=[1,0,0]")
+      ->take_last()
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_option("--kernels", kernel_dir,
+                 "Load kernel sources from this kernels/ directory instead of the embedded copy "
+                 "(development; also $ARCHWAVE_KERNEL_DIR)");
+  app.add_option("--pool", pool, "Path states in flight on the device (default 262144, or $ARCHWAVE_POOL)");
+  app.add_option("--threads", threads, "Threads for --scalar (default: all cores)");
+  app.add_flag("--no-progress", no_progress, "No progress line (it is also off when stderr is not a terminal)");
+  app.add_flag("-q,--quiet", quiet, "No stats summary");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);
+    return rc == 0 ? kOk : kUsage;
+  }
+
+  try {
+    if (list) {
+      std::cout << aw::describe_devices(aw::list_devices());
+      return kOk;
+    }
+    if (scene_path.empty()) {
+      std::cerr << "archwave: no scene given (try --help)\n";
+      return kUsage;
+    }
+    // Flags become overrides so they are validated exactly like the scene's own keys.
+    std::vector<std::string> overrides = defines;
+    if (spp != -1) overrides.push_back("render.spp=" + std::to_string(spp));
+    if (seed != -1) overrides.push_back("render.seed=" + std::to_string(seed));
+    if (width != -1) overrides.push_back("render.width=" + std::to_string(width));
+    if (height != -1) overrides.push_back("render.height=" + std::to_string(height));
+    aw::Scene scene = aw::load_scene(scene_path, overrides);
+
+    if (output.empty()) output = default_output(scene_path);
+    check_output_writable(output);
+
+    aw::RenderOptions opts;
+    opts.device = device;
+    opts.pool_size = pool;
+    opts.threads = threads;
+    opts.kernel_dir = kernel_dir;
+    opts.progress = !no_progress && aw::stderr_is_terminal();
+    opts.cancel = &g_cancel;
+    std::signal(SIGINT, on_sigint);
+    std::signal(SIGTERM, on_sigint);
+
+    aw::RenderResult r = scalar ? aw::render_scalar(scene, opts) : aw::render_wavefront(scene, opts);
+    for (const auto& w : r.stats.warnings) std::cerr << "archwave: warning: " << w << "\n";
+    aw::Image img = r.image(scene);
+    aw::write_exr(output, img);
+    std::string png = aw::png_path_for(output);
+    // The EXR already holds radiance x exposure; the preview adds only the sRGB curve.
+    aw::write_png_preview(png, img, 1.0f);
+    if (!quiet) std::cerr << r.stats.summary();
+    std::cerr << "wrote " << output << " and " << png << " (" << r.min_spp() << " spp)\n";
+    if (r.stats.interrupted) {
+      std::cerr << "archwave: interrupted; the image holds the samples completed so far\n";
+      return kInterrupted;
+    }
+    return kOk;
+  } catch (const aw::SceneError& e) {
+    std::cerr << "archwave: " << e.what() << "\n";
+    return kScene;
+  } catch (const aw::ClError& e) {
+    std::cerr << "archwave: " << e.what() << "\n";
+    return kDevice;
+  } catch (const aw::OutputError& e) {
+    std::cerr << "archwave: " << e.what() << "\n";
+    return kOutput;
+  } catch (const std::exception& e) {
+    std::cerr << "archwave: internal error: " << e.what() << "\n";
+    return kInternal;
+  }
+}

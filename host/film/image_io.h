@@ -1,0 +1,65 @@
+// Image output: the linear float EXR the renderer produces, its 8-bit PNG preview, and the
+// image comparison the renderer's tests are built on.
+#pragma once
+
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace aw {
+
+// A linear RGB image as the renderer hands it over.
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // 3 floats per pixel, row-major, top row first
+  // Written as EXR header attributes under exactly these names (e.g. "spp", "seed",
+  // "archwave:device"). A name must not clash with a standard EXR attribute of another
+  // type ("compression", "dataWindow", ...) nor appear in both maps; such a write fails.
+  std::map<std::string, std::string> string_attrs;
+  std::map<std::string, int> int_attrs;
+};
+
+// Any failure to write or read an image file. what() names the file and the reason.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// 32-bit float R,G,B, ZIP compression, plus every int/string attribute of img.
+// The data goes to "<path>.tmp" first and is renamed over path only once complete and
+// flushed, so a failed or interrupted write never leaves a truncated file at path
+// (an existing file there stays untouched on failure, and the .tmp is removed).
+// Throws OutputError (also for an empty image or rgb.size() != width*height*3).
+void write_exr(const std::string& path, const Image& img);
+
+// Reads R,G,B as float (the file must have all three channels) and every int and string
+// attribute of the header. A data window not starting at (0,0) is read as if it did.
+// Throws OutputError naming path (missing file, not an EXR, truncated, missing channel).
+Image read_exr(const std::string& path);
+
+// 8-bit sRGB PNG: v * exposure_scale, clamped to [0,1], then the exact IEC 61966-2-1
+// piecewise curve, rounded to nearest. A pixel with any NaN/Inf channel is written black.
+// Same tmp+rename and OutputError behaviour as write_exr; a NaN, infinite or negative
+// exposure_scale is an OutputError as well.
+void write_png_preview(const std::string& path, const Image& img, float exposure_scale);
+
+// "out.exr" -> "out.png"; the ".exr" suffix is matched case-insensitively ("a.EXR" ->
+// "a.png"); any other path gets ".png" appended ("out" -> "out.png").
+std::string png_path_for(const std::string& exr_path);
+
+struct ImageDiff {
+  double mean_a, mean_b;       // mean over all channels of all pixels
+  double rel_mean_diff;        // |mean_a - mean_b| / max(|mean_a|, |mean_b|, DBL_MIN)
+  double frac_pixels_within;   // pixels whose 3 channels all have rel. diff <= rel_tol
+  double max_abs_diff;         // largest per-channel |a - b|
+};
+
+// Per channel, rel = |a-b| / max(|a|, |b|, abs_floor); equal values (including equal
+// infinities) count as rel 0. Any NaN makes that pixel "not within" and max_abs_diff NaN,
+// so a test comparing against a tolerance fails rather than passes. A 0x0 image yields
+// means 0 and frac_pixels_within 1. Throws std::invalid_argument when the sizes differ,
+// an rgb vector does not hold width*height*3 floats, or rel_tol/abs_floor is negative/NaN.
+ImageDiff compare_images(const Image& a, const Image& b, double rel_tol, double abs_floor);
+
+}  // namespace aw

@@ -1,0 +1,57 @@
+// What both renderers (wavefront on OpenCL, scalar on the host) take and return.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "host/film/image_io.h"
+#include "host/scene/scene.h"
+
+namespace aw {
+
+struct RenderOptions {
+  int device = 0;             // OpenCL device index (wavefront only)
+  uint32_t pool_size = 0;     // path states in flight; 0 = default (2^18, or $ARCHWAVE_POOL)
+  uint32_t max_batch = 0;     // jobs per film batch; 0 = default (4 × pool)
+  int threads = 0;            // scalar path threads; 0 = hardware concurrency
+  bool progress = false;      // progress line on stderr
+  std::string kernel_dir;     // "" = embedded kernels
+  std::string build_options;  // extra OpenCL build options (never fast-math in tests)
+  const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
+};
+
+struct RenderStats {
+  std::string renderer;  // "wavefront" or "scalar"
+  std::string device;
+  double total_seconds = 0.0;
+  double bvh_seconds = 0.0;
+  double compile_seconds = 0.0;
+  std::vector<std::pair<std::string, double>> stage_seconds;  // in pipeline order
+  uint64_t closest_rays = 0;
+  uint64_t shadow_rays = 0;
+  uint64_t samples = 0;  // completed (pixel, sample) pairs
+  uint64_t bad_samples = 0;  // NaN/Inf/negative samples discarded (counted as zero)
+  uint64_t iterations = 0;
+  size_t state_bytes = 0;  // path pool memory
+  bool interrupted = false;
+  std::vector<std::string> warnings;
+  std::string summary() const;  // multi-line human-readable stats
+};
+
+struct RenderResult {
+  int width = 0, height = 0;
+  std::vector<float> sum;        // per pixel RGB sums, summed in sample order
+  std::vector<uint32_t> count;   // samples per pixel
+  RenderStats stats;
+  uint32_t min_spp() const;
+  // The averaged image with spp/seed/device in its header attributes.
+  Image image(const Scene& scene) const;
+};
+
+RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts);
+RenderResult render_scalar(const Scene& scene, const RenderOptions& opts);
+
+}  // namespace aw

@@ -1,0 +1,188 @@
+#include "host/render/scene_pack.h"
+
+#include <cmath>
+#include <cstring>
+
+#include "kernels/common/sampling.h"
+
+namespace aw {
+
+namespace {
+
+void put3(float* dst, glm::vec3 v) {
+  dst[0] = v.x;
+  dst[1] = v.y;
+  dst[2] = v.z;
+}
+
+float lum(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+LightGpu pack_light(const LightDesc& d, float* power) {
+  LightGpu l;
+  std::memset(&l, 0, sizeof(l));
+  glm::vec3 radiance = d.color * d.intensity;
+  put3(l.radiance, radiance);
+  l.flags = (d.two_sided ? AW_LIGHT_TWO_SIDED : 0u) | (d.visible ? AW_LIGHT_VISIBLE : 0u);
+  const float pi = 3.14159265358979323846f;
+  // Emitted power (luminance), the light-selection weight: a point light emits 4 pi I, a
+  // Lambertian area emitter pi L A per emitting side.
+  switch (d.type) {
+    case LightDesc::Type::Point:
+      l.type = AW_LIGHT_POINT;
+      put3(l.p, d.position);
+      *power = 4.0f * pi * lum(radiance);
+      break;
+    case LightDesc::Type::Quad: {
+      l.type = AW_LIGHT_QUAD;
+      put3(l.p, d.corner);
+      put3(l.u, d.edge_u);
+      put3(l.v, d.edge_v);
+      glm::vec3 c = glm::cross(d.edge_u, d.edge_v);
+      l.area = glm::length(c);
+      put3(l.n, l.area > 0.0f ? c / l.area : glm::vec3(0, 0, 1));
+      *power = pi * lum(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
+      break;
+    }
+    case LightDesc::Type::Disk: {
+      l.type = AW_LIGHT_DISK;
+      put3(l.p, d.center);
+      glm::vec3 n = glm::normalize(d.normal);
+      float3 t, b;
+      make_frame(n, &t, &b);
+      put3(l.n, n);
+      put3(l.u, t);
+      put3(l.v, b);
+      l.radius = d.radius;
+      l.area = pi * d.radius * d.radius;
+      *power = pi * lum(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
+      break;
+    }
+    case LightDesc::Type::Sphere:
+      l.type = AW_LIGHT_SPHERE;
+      put3(l.p, d.center);
+      l.radius = d.radius;
+      l.area = 4.0f * pi * d.radius * d.radius;
+      *power = pi * lum(radiance) * l.area;
+      break;
+  }
+  // A zero-area light emits nothing and must never be sampled (its pdf would be infinite).
+  if (d.type != LightDesc::Type::Point && !(l.area > 0.0f)) *power = 0.0f;
+  return l;
+}
+
+}  // namespace
+
+PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
+  PackedScene ps;
+  // Geometry: one global vertex and triangle list.
+  for (const TriangleMesh& m : scene.meshes) {
+    uint32_t base = uint32_t(ps.verts.size());
+    bool has_n = m.normals.size() == m.positions.size();
+    bool has_uv = m.uvs.size() == m.positions.size();
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      VertexData v;
+      std::memset(&v, 0, sizeof(v));
+      put3(v.p, m.positions[i]);
+      if (has_n) {
+        put3(v.n, m.normals[i]);
+        v.n[3] = 1.0f;  // marks "has a shading normal" (kernels/types/bvh.h)
+      }
+      if (has_uv) {
+        v.uv[0] = m.uvs[i].x;
+        v.uv[1] = m.uvs[i].y;
+      }
+      ps.verts.push_back(v);
+      ps.soup.positions.push_back(m.positions[i]);
+    }
+    for (const glm::uvec3& t : m.indices) {
+      TriangleInfo ti;
+      ti.v[0] = base + t.x;
+      ti.v[1] = base + t.y;
+      ti.v[2] = base + t.z;
+      ti.material = m.material;
+      ps.tri_info.push_back(ti);
+      ps.soup.indices.push_back(glm::uvec3(ti.v[0], ti.v[1], ti.v[2]));
+    }
+  }
+
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const MaterialDesc& d = scene.materials[i];
+    MaterialGpu g;
+    std::memset(&g, 0, sizeof(g));
+    put3(g.diffuse_color, d.diffuse.color * d.diffuse.weight);
+    g.diffuse_roughness = d.diffuse.roughness;
+    ps.materials.push_back(g);
+    // The foundation renders the diffuse lobe only; say so instead of silently dropping
+    // a lobe the scene asks for.
+    const std::string& name = i < scene.material_names.size() ? scene.material_names[i] : std::to_string(i);
+    auto note = [&](const char* what) {
+      if (warnings)
+        warnings->push_back("material '" + name + "': " + what +
+                            " is not rendered yet (this build renders the Lambert diffuse lobe only)");
+    };
+    if (d.reflection.weight > 0.0f && glm::length(d.reflection.color) > 0.0f) note("reflection");
+    if (d.reflection2.weight > 0.0f && glm::length(d.reflection2.color) > 0.0f) note("reflection2");
+    if (d.refraction.weight > 0.0f) note("refraction");
+    if (d.translucency.enable) note("translucency");
+    if (d.metal) note("metal");
+    if (d.diffuse.roughness > 0.0f) note("diffuse.roughness (Oren-Nayar)");
+    if (d.ao.enable) note("ao");
+    if (d.cutout_opacity < 1.0f) note("cutout_opacity");
+    if (glm::length(d.incandescent.color) > 0.0f) note("incandescent");
+  }
+
+  // Lights, with selection probabilities proportional to emitted power.
+  std::vector<float> power;
+  for (const LightDesc& d : scene.lights) {
+    float p = 0.0f;
+    ps.lights.push_back(pack_light(d, &p));
+    power.push_back(std::isfinite(p) && p > 0.0f ? p : 0.0f);
+  }
+  double total = 0.0;
+  for (float p : power) total += p;
+  double acc = 0.0;
+  for (size_t i = 0; i < ps.lights.size(); ++i) {
+    double pdf = total > 0.0 ? power[i] / total : 0.0;
+    acc += pdf;
+    ps.lights[i].select_pdf = float(pdf);
+    ps.lights[i].select_cdf = float(acc);
+  }
+  if (!ps.lights.empty()) ps.lights.back().select_cdf = 1.0f;
+
+  // Camera: orthonormal basis from position, look_at and up.
+  const CameraDesc& cam = scene.camera;
+  glm::vec3 fwd = cam.look_at - cam.position;
+  if (!(glm::length(fwd) > 0.0f)) throw SceneError(scene.path + ": camera: look_at equals position");
+  fwd = glm::normalize(fwd);
+  glm::vec3 right = glm::cross(fwd, cam.up);
+  if (!(glm::length(right) > 1e-6f))
+    throw SceneError(scene.path + ": camera: up is parallel to the viewing direction");
+  right = glm::normalize(right);
+  glm::vec3 up = glm::cross(right, fwd);
+  RenderParams& rp = ps.params;
+  std::memset(&rp, 0, sizeof(rp));
+  put3(rp.cam_origin, cam.position);
+  put3(rp.cam_forward, fwd);
+  put3(rp.cam_right, right);
+  put3(rp.cam_up, up);
+  rp.tan_half_fov = std::tan(0.5f * cam.fov * 3.14159265358979323846f / 180.0f);
+  const RenderSettings& rs = scene.render;
+  rp.aspect = float(rs.width) / float(rs.height);
+  rp.width = uint32_t(rs.width);
+  rp.height = uint32_t(rs.height);
+  rp.seed = rs.seed;
+  rp.max_depth = uint32_t(rs.max_depth);
+  rp.gi = rs.gi ? 1u : 0u;
+  rp.cutoff = rs.cutoff;
+  rp.clamp = rs.clamp;
+  rp.rr_depth = 3;
+  put3(rp.env_radiance, scene.environment.color * scene.environment.intensity);
+  // Every light is passed, also those that cannot be sampled: they are still hit and still
+  // occlude (a zero-radiance light is a black object). If all have zero power the pick lands
+  // on a light with select_pdf 0, whose sample then contributes nothing.
+  rp.num_lights = uint32_t(ps.lights.size());
+  return ps;
+}
+
+}  // namespace aw
+

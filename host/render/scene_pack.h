@@ -1,0 +1,28 @@
+// Turns a loaded Scene into the flat arrays the kernels (and the scalar path) read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "host/bvh/flat_bvh.h"
+#include "host/scene/scene.h"
+#include "kernels/common/compat.h"
+#include "kernels/types/bvh.h"
+#include "kernels/types/scene.h"
+
+namespace aw {
+
+struct PackedScene {
+  TriangleSoup soup;  // world-space triangles, global ids (BVH and Embree input)
+  std::vector<TriangleInfo> tri_info;
+  std::vector<VertexData> verts;
+  std::vector<MaterialGpu> materials;
+  std::vector<LightGpu> lights;
+  RenderParams params{};  // camera, environment, settings; pool and batch fields left 0
+};
+
+// Throws SceneError for a scene that cannot be rendered (a degenerate camera). Appends
+// notes about parameters the current kernels do not render yet to *warnings.
+PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings);
+
+}  // namespace aw

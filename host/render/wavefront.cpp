@@ -1,0 +1,237 @@
+// The wavefront driver: a fixed pool of path states, one kernel per stage, queues between
+// them (kernels/integrator/queues.h has the scheduling rule).
+//
+// Work is a sequence of jobs (pixel, sample) in sample-major order, processed in batches.
+// Within a batch, free slots take the next jobs in order; a finished path writes its sample
+// value to samples[job]; at the end of the batch film_accumulate adds the batch to the film
+// pixel by pixel in sample order. So the film's summation order is fixed by the job order
+// alone: the image does not depend on the pool size, the batch size, or which slot ran what.
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <numeric>
+#include <stdexcept>
+
+#include "host/bvh/flat_bvh.h"
+#include "host/cl/cl_runtime.h"
+#include "host/cl/kernel_source.h"
+#include "host/film/progress.h"
+#include "host/render/render.h"
+#include "host/render/scene_pack.h"
+#include "kernels/integrator/path_state.h"
+#include "kernels/integrator/queues.h"
+
+namespace aw {
+
+namespace {
+
+constexpr uint32_t kWorkGroup = 64;  // explicit local size everywhere (DESIGN.md: PoCL facts)
+
+size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWorkGroup; }
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+uint32_t default_pool_size() {
+  if (const char* e = std::getenv("ARCHWAVE_POOL")) {
+    long v = std::strtol(e, nullptr, 10);
+    if (v >= long(kWorkGroup)) return uint32_t(v);
+  }
+  return 1u << 18;
+}
+
+template <class T>
+cl::Buffer upload(ClRuntime& rt, const char* what, const std::vector<T>& v, cl_mem_flags flags = CL_MEM_READ_ONLY) {
+  return rt.buffer(what, v.size() * sizeof(T), flags, v.empty() ? nullptr : v.data());
+}
+
+struct Stage {
+  const char* name;
+  cl::Kernel kernel;
+  double seconds = 0.0;
+};
+
+}  // namespace
+
+RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
+  auto t_start = Clock::now();
+  RenderResult res;
+  RenderStats& st = res.stats;
+  st.renderer = "wavefront";
+  PackedScene packed = pack_scene(scene, &st.warnings);
+
+  auto t_bvh = Clock::now();
+  EmbreeDevice embree;
+  FlatBvh bvh = build_flat_bvh(embree, packed.soup);
+  st.bvh_seconds = since(t_bvh);
+
+  ClRuntime rt(opts.device);
+  st.device = rt.info().name + " (" + rt.info().platform + ")";
+  std::string src = assemble_kernel_source("integrator/kernels.cl", opts.kernel_dir);
+  std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " + opts.build_options;
+  cl::Program program = rt.build(src, options, &st.compile_seconds);
+
+  try {
+    RenderParams rp = packed.params;
+    const uint32_t npix = rp.width * rp.height;
+    const uint64_t total_jobs = uint64_t(npix) * uint64_t(scene.render.spp);
+    uint32_t pool = opts.pool_size ? opts.pool_size : default_pool_size();
+    pool = uint32_t(std::min<uint64_t>(pool, pad_to_group(total_jobs)));
+    pool = uint32_t(pad_to_group(pool));
+    rp.pool_size = pool;
+    rp.num_nodes = uint32_t(bvh.nodes.size());
+    uint32_t max_batch = opts.max_batch ? opts.max_batch : 4u * pool;
+    max_batch = uint32_t(std::min<uint64_t>(max_batch, total_jobs));
+
+    auto& q = rt.queue();
+    cl::Buffer sf = rt.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool * 4);
+    cl::Buffer su = rt.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool * 4);
+    st.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool * 4;
+    cl::Buffer queues[AW_Q_COUNT];
+    const char* qnames[AW_Q_COUNT] = {"ray queue", "diffuse queue", "shadow queue", "done queue", "free queue"};
+    for (int i = 0; i < AW_Q_COUNT; ++i) queues[i] = rt.buffer(qnames[i], size_t(pool) * 4);
+    cl::Buffer counters = rt.buffer("queue counters", AW_Q_COUNT * 4);
+    std::vector<uint32_t> zero_stats(AW_STAT_COUNT, 0);
+    cl::Buffer stats = upload(rt, "stats counters", zero_stats, CL_MEM_READ_WRITE);
+    cl::Buffer samples = rt.buffer("batch samples", size_t(max_batch) * 3 * 4);
+    std::vector<float> film_init(size_t(npix) * 3, 0.0f);
+    std::vector<uint32_t> count_init(npix, 0);
+    cl::Buffer film = upload(rt, "film", film_init, CL_MEM_READ_WRITE);
+    cl::Buffer film_count = upload(rt, "film sample counts", count_init, CL_MEM_READ_WRITE);
+    cl::Buffer nodes = rt.buffer("BVH nodes", bvh.nodes.size() * sizeof(BvhNode), CL_MEM_READ_ONLY,
+                                 bvh.nodes.empty() ? nullptr : bvh.nodes.data());
+    cl::Buffer tris = rt.buffer("BVH leaf triangles", bvh.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,
+                                bvh.leaf_tris.empty() ? nullptr : bvh.leaf_tris.data());
+    cl::Buffer tri_info = upload(rt, "triangle info", packed.tri_info);
+    cl::Buffer verts = upload(rt, "vertices", packed.verts);
+    cl::Buffer materials = upload(rt, "materials", packed.materials);
+    cl::Buffer lights = upload(rt, "lights", packed.lights);
+    std::vector<uint32_t> identity(pool);
+    std::iota(identity.begin(), identity.end(), 0u);
+
+    Stage regen{"regenerate", cl::Kernel(program, "regenerate")};
+    Stage isect{"intersect_closest", cl::Kernel(program, "intersect_closest")};
+    Stage classify{"classify_hit", cl::Kernel(program, "classify_hit_stage")};
+    Stage diffuse{"shade_diffuse", cl::Kernel(program, "shade_diffuse_stage")};
+    Stage shadow{"intersect_shadow", cl::Kernel(program, "intersect_shadow")};
+    Stage accum{"accumulate", cl::Kernel(program, "accumulate")};
+    Stage filmacc{"film_accumulate", cl::Kernel(program, "film_accumulate")};
+
+    // Static arguments (index 0, the RenderParams, is set per launch).
+    regen.kernel.setArg(1, sf); regen.kernel.setArg(2, su); regen.kernel.setArg(3, queues[AW_Q_FREE]);
+    regen.kernel.setArg(6, queues[AW_Q_RAY]); regen.kernel.setArg(7, counters);
+    isect.kernel.setArg(1, sf); isect.kernel.setArg(2, su); isect.kernel.setArg(3, queues[AW_Q_RAY]);
+    isect.kernel.setArg(5, nodes); isect.kernel.setArg(6, tris); isect.kernel.setArg(7, lights);
+    classify.kernel.setArg(1, sf); classify.kernel.setArg(2, su); classify.kernel.setArg(3, queues[AW_Q_RAY]);
+    classify.kernel.setArg(5, tri_info); classify.kernel.setArg(6, verts); classify.kernel.setArg(7, materials);
+    classify.kernel.setArg(8, lights); classify.kernel.setArg(9, queues[AW_Q_DIFFUSE]);
+    classify.kernel.setArg(10, queues[AW_Q_DONE]); classify.kernel.setArg(11, counters);
+    diffuse.kernel.setArg(1, sf); diffuse.kernel.setArg(2, su); diffuse.kernel.setArg(3, queues[AW_Q_DIFFUSE]);
+    diffuse.kernel.setArg(5, tri_info); diffuse.kernel.setArg(6, verts); diffuse.kernel.setArg(7, materials);
+    diffuse.kernel.setArg(8, lights); diffuse.kernel.setArg(9, queues[AW_Q_RAY]);
+    diffuse.kernel.setArg(10, queues[AW_Q_SHADOW]); diffuse.kernel.setArg(11, queues[AW_Q_DONE]);
+    diffuse.kernel.setArg(12, counters);
+    shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues[AW_Q_SHADOW]);
+    shadow.kernel.setArg(5, nodes); shadow.kernel.setArg(6, tris); shadow.kernel.setArg(7, lights);
+    accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues[AW_Q_DONE]);
+    accum.kernel.setArg(5, samples); accum.kernel.setArg(6, queues[AW_Q_FREE]); accum.kernel.setArg(7, counters);
+    accum.kernel.setArg(8, stats);
+    filmacc.kernel.setArg(1, samples); filmacc.kernel.setArg(2, film); filmacc.kernel.setArg(3, film_count);
+
+    uint32_t cnt[AW_Q_COUNT] = {0, 0, 0, 0, 0};
+    auto push_counters = [&] { q.enqueueWriteBuffer(counters, CL_TRUE, 0, sizeof cnt, cnt); };
+    auto pull_counters = [&] { q.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof cnt, cnt); };
+    // Runs one stage over `n` items and waits, so its time is its own.
+    auto run = [&](Stage& s, size_t n, bool counts) {
+      auto t0 = Clock::now();
+      if (counts) push_counters();
+      s.kernel.setArg(0, sizeof(RenderParams), &rp);
+      if (n) q.enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(pad_to_group(n)), cl::NDRange(kWorkGroup));
+      if (counts) pull_counters();
+      else q.finish();
+      s.seconds += since(t0);
+    };
+
+    ProgressLine progress("rendering", total_jobs, opts.progress);
+    uint64_t jobs_done = 0;
+    while (jobs_done < total_jobs) {
+      if (opts.cancel && opts.cancel->load()) break;
+      uint32_t batch = uint32_t(std::min<uint64_t>(max_batch, total_jobs - jobs_done));
+      rp.batch_pixel = uint32_t(jobs_done % npix);
+      rp.batch_sample = uint32_t(jobs_done / npix);
+      rp.job_count = batch;
+      q.enqueueWriteBuffer(queues[AW_Q_FREE], CL_TRUE, 0, size_t(pool) * 4, identity.data());
+      std::fill(cnt, cnt + AW_Q_COUNT, 0u);
+      cnt[AW_Q_FREE] = pool;
+      uint32_t next_job = 0, issue_limit = batch;
+      for (;;) {
+        // An interrupt stops new paths; the ones in flight finish (bounded by max_depth), so
+        // every job issued so far lands in the film.
+        if (opts.cancel && opts.cancel->load()) issue_limit = next_job;
+        uint32_t take = std::min(cnt[AW_Q_FREE], issue_limit - next_job);
+        if (take) {
+          regen.kernel.setArg(4, take);
+          regen.kernel.setArg(5, next_job);
+          run(regen, take, true);
+          next_job += take;
+        }
+        uint32_t n_ray = cnt[AW_Q_RAY];
+        if (n_ray == 0) {
+          if (next_job >= issue_limit) break;
+          // No path in flight and jobs left means slots were lost: a broken scheduling rule.
+          throw std::logic_error("wavefront: no path in flight but jobs remain (a stage lost a path)");
+        }
+        ++st.iterations;
+        st.closest_rays += n_ray;
+        isect.kernel.setArg(4, n_ray);
+        run(isect, n_ray, false);
+        cnt[AW_Q_DIFFUSE] = 0;
+        cnt[AW_Q_DONE] = 0;
+        classify.kernel.setArg(4, n_ray);
+        run(classify, n_ray, true);
+        uint32_t n_diffuse = cnt[AW_Q_DIFFUSE];
+        cnt[AW_Q_RAY] = 0;
+        cnt[AW_Q_SHADOW] = 0;
+        diffuse.kernel.setArg(4, n_diffuse);
+        run(diffuse, n_diffuse, true);
+        uint32_t n_shadow = cnt[AW_Q_SHADOW];
+        st.shadow_rays += n_shadow;
+        shadow.kernel.setArg(4, n_shadow);
+        run(shadow, n_shadow, false);
+        uint32_t n_done = cnt[AW_Q_DONE];
+        cnt[AW_Q_FREE] = 0;
+        accum.kernel.setArg(4, n_done);
+        run(accum, n_done, true);
+        cnt[AW_Q_DONE] = 0;
+        progress.update(jobs_done + next_job - (cnt[AW_Q_RAY]));
+      }
+      rp.job_count = next_job;
+      run(filmacc, npix, false);
+      jobs_done += next_job;
+      st.samples += next_job;
+      progress.update(jobs_done);
+      if (next_job < batch) break;  // interrupted
+    }
+    progress.finish();
+    st.interrupted = jobs_done < total_jobs;
+
+    res.width = int(rp.width);
+    res.height = int(rp.height);
+    res.sum.resize(size_t(npix) * 3);
+    res.count.resize(npix);
+    q.enqueueReadBuffer(film, CL_TRUE, 0, res.sum.size() * 4, res.sum.data());
+    q.enqueueReadBuffer(film_count, CL_TRUE, 0, res.count.size() * 4, res.count.data());
+    std::vector<uint32_t> stat_vals(AW_STAT_COUNT);
+    q.enqueueReadBuffer(stats, CL_TRUE, 0, stat_vals.size() * 4, stat_vals.data());
+    st.bad_samples = stat_vals[AW_STAT_BAD_SAMPLES];
+    for (Stage* s : {&regen, &isect, &classify, &diffuse, &shadow, &accum, &filmacc})
+      st.stage_seconds.emplace_back(s->name, s->seconds);
+  } catch (const cl::Error& e) {
+    throw ClError(std::string("OpenCL error while rendering on ") + rt.info().name + ": " + e.what() + " (" +
+                  cl_error_name(e.err()) + ")");
+  }
+  st.total_seconds = since(t_start);
+  return res;
+}
+
+}  // namespace aw

@@ -1,0 +1,123 @@
+// The loaded, validated scene: what the rest of the renderer consumes.
+//
+// host/scene turns a JSON file (SCENE_FORMAT.md; docs/scene-format.md is our copy) into this
+// structure. Everything here is already validated and defaulted; geometry is triangulated and
+// transformed to world space. Nothing downstream re-reads the JSON.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "host/scene/material_desc.h"
+
+namespace aw {
+
+// A scene that could not be loaded. what() is the complete, user-facing message, already in
+// the form "FILE:LINE:COL: json.path: message" (or "FILE: message" when there is no position).
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderSettings {
+  int width = 640;
+  int height = 480;
+  int spp = 64;
+  uint32_t seed = 0;
+  int max_depth = 8;
+  int reflection_depth = 8;
+  int refraction_depth = 8;
+  bool gi = true;
+  float cutoff = 0.001f;
+  bool lobe_splitting = true;
+  float clamp = 0.0f;  // 0 = off
+};
+
+struct ExposureDesc {
+  enum class Mode { Stops, Photographic };
+  Mode mode = Mode::Stops;
+  float stops = 0.0f;
+  // Photographic (mental ray compatible): k = (1/shutter) * iso / (f_number^2 * 100).
+  float iso = 100.0f;
+  float shutter = 100.0f;  // 1/seconds
+  float f_number = 16.0f;
+  glm::vec3 whitepoint{1.0f};
+  float vignetting = 0.0f;
+};
+
+struct CameraDesc {
+  glm::vec3 position{0.0f, 1.0f, 4.0f};
+  glm::vec3 look_at{0.0f, 1.0f, 0.0f};
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float fov = 40.0f;  // vertical, degrees
+  ExposureDesc exposure;
+};
+
+struct EnvironmentDesc {
+  enum class Type { Constant };  // map and sky come with the lights issue
+  Type type = Type::Constant;
+  glm::vec3 color{0.0f};
+  float intensity = 1.0f;
+};
+
+struct LightDesc {
+  enum class Type { Point, Quad, Disk, Sphere };
+  Type type = Type::Point;
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  // point: position. sphere: center + radius. disk: center + normal + radius.
+  // quad: corner + edge_u + edge_v (emits towards edge_u x edge_v unless two_sided).
+  glm::vec3 position{0.0f};
+  glm::vec3 center{0.0f};
+  glm::vec3 normal{0.0f, -1.0f, 0.0f};
+  float radius = 0.5f;
+  glm::vec3 corner{0.0f};
+  glm::vec3 edge_u{1.0f, 0.0f, 0.0f};
+  glm::vec3 edge_v{0.0f, 0.0f, 1.0f};
+  bool two_sided = false;
+  bool visible = true;
+};
+
+// One triangulated object in world space. Built-in shapes are tessellated with smooth normals
+// and UVs; OBJ meshes keep their normals/UVs when they have them (empty vectors otherwise).
+struct TriangleMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  // per vertex, same size as positions, or empty
+  std::vector<glm::vec2> uvs;      // per vertex, same size as positions, or empty
+  std::vector<glm::uvec3> indices;
+  uint32_t material = 0;  // index into Scene::materials
+  std::string name;       // "objects[3] (mesh meshes/bunny.obj)" for messages and stats
+};
+
+struct Scene {
+  std::string path;  // the scene file as given
+  RenderSettings render;
+  CameraDesc camera;
+  EnvironmentDesc environment;
+  std::vector<LightDesc> lights;
+  std::vector<std::string> material_names;  // same order as materials
+  std::vector<MaterialDesc> materials;
+  std::vector<TriangleMesh> meshes;
+  std::vector<std::string> warnings;  // already printed once by load_scene; kept for tests
+
+  size_t triangle_count() const {
+    size_t n = 0;
+    for (const auto& m : meshes) n += m.indices.size();
+    return n;
+  }
+};
+
+// Loads and validates a scene. `overrides` are the command line's -D entries, each
+// "dotted.key.path=value" (value parsed as JSON, falling back to a plain string); they are
+// applied before validation so they are checked like the file's own keys.
+// Throws SceneError on any problem. Warnings (clamped values) go to stderr and Scene::warnings.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+// Linear exposure scale: 2^stops, or the photographic constant.
+float exposure_scale(const ExposureDesc& e);
+
+}  // namespace aw

@@ -1,0 +1,76 @@
+// Watertight ray–triangle intersection: Woop, Benthin & Wald 2013, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1). Rays are sheared into a space where they run along +z (Sec. 3),
+// so edge tests share their arithmetic between neighbouring triangles and a ray through an
+// edge or vertex hits exactly one of the triangles that share it — no cracks, no double hits.
+#ifndef AW_BVH_INTERSECT_TRIANGLE_H
+#define AW_BVH_INTERSECT_TRIANGLE_H
+
+#include "common/compat.h"
+
+// Per-ray constants of the shear transform (Sec. 3, Fig. 2).
+typedef struct {
+  int kx, ky, kz;
+  float sx, sy, sz;
+} RayShear;
+
+AW_FN float f3_get(float3 v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
+
+AW_FN RayShear ray_shear_make(float3 dir) {
+  RayShear s;
+  float ax = fabs(dir.x), ay = fabs(dir.y), az = fabs(dir.z);
+  // kz = dimension where the direction is largest in magnitude.
+  s.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  s.kx = s.kz + 1 == 3 ? 0 : s.kz + 1;
+  s.ky = s.kx + 1 == 3 ? 0 : s.kx + 1;
+  // Swap kx and ky to preserve the winding (and so the sign convention of u, v).
+  if (f3_get(dir, s.kz) < 0.0f) {
+    int tmp = s.kx;
+    s.kx = s.ky;
+    s.ky = tmp;
+  }
+  float dz = f3_get(dir, s.kz);
+  s.sx = f3_get(dir, s.kx) / dz;
+  s.sy = f3_get(dir, s.ky) / dz;
+  s.sz = 1.0f / dz;
+  return s;
+}
+
+// Returns 1 and writes t, u, v (barycentrics of v1 and v2, Embree's convention) for a hit
+// with tmin < t < *t_max. Triangles are double sided; degenerate ones never hit.
+AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float3 v2,
+                             float t_min, float t_max, float* t_out, float* u_out, float* v_out) {
+  float3 a3 = v0 - org, b3 = v1 - org, c3 = v2 - org;
+  float az = f3_get(a3, s.kz), bz = f3_get(b3, s.kz), cz = f3_get(c3, s.kz);
+  float ax = f3_get(a3, s.kx) - s.sx * az, ay = f3_get(a3, s.ky) - s.sy * az;
+  float bx = f3_get(b3, s.kx) - s.sx * bz, by = f3_get(b3, s.ky) - s.sy * bz;
+  float cx = f3_get(c3, s.kx) - s.sx * cz, cy = f3_get(c3, s.ky) - s.sy * cz;
+  // Scaled barycentrics: 2D edge functions (Sec. 3, Eq. 4).
+  float U = cx * by - cy * bx;
+  float V = ax * cy - ay * cx;
+  float W = bx * ay - by * ax;
+  // Edge cases exactly on an edge: recompute in double precision so the sign is exact
+  // (Sec. 3.1). Only taken for rays that graze an edge, so the cost is negligible.
+  if (U == 0.0f || V == 0.0f || W == 0.0f) {
+#if AW_DEVICE && !defined(cl_khr_fp64)
+    // No fp64 on this device: the float result stands (still consistent per edge).
+#else
+    U = (float)((double)cx * (double)by - (double)cy * (double)bx);
+    V = (float)((double)ax * (double)cy - (double)ay * (double)cx);
+    W = (float)((double)bx * (double)ay - (double)by * (double)ax);
+#endif
+  }
+  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return 0;
+  float det = U + V + W;
+  if (det == 0.0f) return 0;
+  // Scaled hit distance; compare against the scaled interval before the division (Sec. 3).
+  float T = U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz);
+  float inv_det = 1.0f / det;
+  float t = T * inv_det;
+  if (!(t > t_min && t < t_max)) return 0;
+  *t_out = t;
+  *u_out = V * inv_det;
+  *v_out = W * inv_det;
+  return 1;
+}
+
+#endif

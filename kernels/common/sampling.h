@@ -1,0 +1,66 @@
+// Warps from the unit square and local frames, shared by every lobe and light.
+#ifndef AW_COMMON_SAMPLING_H
+#define AW_COMMON_SAMPLING_H
+
+#include "common/compat.h"
+
+// Concentric square-to-disk map: Shirley & Chiu 1997, "A Low Distortion Map Between Disk and
+// Square", Sec. 3 (in the polar form of Shirley's later note). Keeps strata compact.
+AW_FN float2 sample_concentric_disk(float2 u) {
+  float a = 2.0f * u.x - 1.0f;
+  float b = 2.0f * u.y - 1.0f;
+  if (a == 0.0f && b == 0.0f) return make_float2(0.0f, 0.0f);
+  float r, phi;
+  if (fabs(a) > fabs(b)) {
+    r = a;
+    phi = (M_PI_F / 4.0f) * (b / a);
+  } else {
+    r = b;
+    phi = (M_PI_F / 2.0f) - (M_PI_F / 4.0f) * (a / b);
+  }
+  return make_float2(r * cos(phi), r * sin(phi));
+}
+
+// Cosine-weighted hemisphere around +z (Malley's method: project the disk up), pdf cos/pi.
+AW_FN float3 sample_cosine_hemisphere(float2 u) {
+  float2 d = sample_concentric_disk(u);
+  float z = safe_sqrt(1.0f - d.x * d.x - d.y * d.y);
+  return make_float3(d.x, d.y, z);
+}
+
+AW_FN float pdf_cosine_hemisphere(float cos_theta) { return fmax(cos_theta, 0.0f) * (1.0f / M_PI_F); }
+
+// Uniform direction in the cone cos(theta) >= cos_max around +z; pdf 1/(2 pi (1 - cos_max)).
+AW_FN float3 sample_uniform_cone(float2 u, float cos_max) {
+  float cos_t = 1.0f - u.x * (1.0f - cos_max);
+  float sin_t = safe_sqrt(1.0f - cos_t * cos_t);
+  float phi = 2.0f * M_PI_F * u.y;
+  return make_float3(cos(phi) * sin_t, sin(phi) * sin_t, cos_t);
+}
+
+// Orthonormal basis from a unit normal without branches on a near-degenerate axis:
+// Duff et al. 2017, "Building an Orthonormal Basis, Revisited", JCGT 6(1), Listing 3.
+AW_FN void make_frame(float3 n, float3* t, float3* b) {
+  float s = copysign(1.0f, n.z);
+  float a = -1.0f / (s + n.z);
+  float c = n.x * n.y * a;
+  *t = make_float3(1.0f + s * n.x * n.x * a, s * c, -s * n.x);
+  *b = make_float3(c, s + n.y * n.y * a, -n.y);
+}
+
+AW_FN float3 frame_to_world(float3 v, float3 t, float3 b, float3 n) { return v.x * t + v.y * b + v.z * n; }
+AW_FN float3 frame_to_local(float3 v, float3 t, float3 b, float3 n) {
+  return make_float3(dot(v, t), dot(v, b), dot(v, n));
+}
+
+// Power heuristic with beta = 2: Veach 1997, "Robust Monte Carlo Methods for Light Transport
+// Simulation", Sec. 9.2.4, Eq. 9.13. Written so that an infinite pdf (delta) wins cleanly.
+AW_FN float mis_power(float pdf_a, float pdf_b) {
+  float a = pdf_a * pdf_a;
+  float b = pdf_b * pdf_b;
+  if (!(a + b > 0.0f)) return 0.0f;
+  if (!isfinite(a)) return 1.0f;
+  return a / (a + b);
+}
+
+#endif

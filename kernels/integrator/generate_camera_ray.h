@@ -1,0 +1,37 @@
+// From: FREE (a slot and a batch-local job) / To: RAY.
+// Starts a camera path: pinhole camera, pixel jittered uniformly within its footprint.
+#ifndef AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
+#define AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
+
+#include "common/rng.h"
+#include "integrator/path_state.h"
+#include "types/scene.h"
+
+AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
+  uint npix = rp->width * rp->height;
+  // Batch-local job -> (pixel, sample), see RenderParams. (batch_pixel < npix, so the sum
+  // cannot overflow for any batch that fits in memory.)
+  uint k = rp->batch_pixel + job;
+  uint pixel = k % npix;
+  uint sample = rp->batch_sample + k / npix;
+  uint px = pixel % rp->width, py = pixel / rp->width;
+
+  float2 j = rng_2d(rp->seed, pixel, sample, 0u, AW_DIM_CAMERA);
+  float sx = (2.0f * ((float)px + j.x) / (float)rp->width - 1.0f) * rp->tan_half_fov * rp->aspect;
+  float sy = (1.0f - 2.0f * ((float)py + j.y) / (float)rp->height) * rp->tan_half_fov;
+  float3 d = normalize(load_f3p(rp->cam_forward) + sx * load_f3p(rp->cam_right) + sy * load_f3p(rp->cam_up));
+
+  ps_set_ray(ps, load_f3p(rp->cam_origin), d);
+  ps_set_throughput(ps, make_float3(1.0f, 1.0f, 1.0f));
+  PS_F(ps, rad_r) = 0.0f;
+  PS_F(ps, rad_g) = 0.0f;
+  PS_F(ps, rad_b) = 0.0f;
+  PS_F(ps, bsdf_pdf) = 0.0f;
+  PS_U(ps, job) = job;
+  PS_U(ps, pixel) = pixel;
+  PS_U(ps, sample) = sample;
+  PS_U(ps, bounce) = 0u;
+  PS_U(ps, flags) = 0u;
+}
+
+#endif

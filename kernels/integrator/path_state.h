@@ -1,0 +1,64 @@
+// Access to one path's state, the same on device (SoA buffers) and host (one path).
+#ifndef AW_INTEGRATOR_PATH_STATE_H
+#define AW_INTEGRATOR_PATH_STATE_H
+
+#include "common/compat.h"
+
+enum {
+#define AW_STATE_F(name) AW_SF_##name,
+#define AW_STATE_U(name)
+#include "integrator/state_template.h"
+#undef AW_STATE_F
+#undef AW_STATE_U
+  AW_SF_COUNT
+};
+enum {
+#define AW_STATE_F(name)
+#define AW_STATE_U(name) AW_SU_##name,
+#include "integrator/state_template.h"
+#undef AW_STATE_F
+#undef AW_STATE_U
+  AW_SU_COUNT
+};
+
+// Path flags.
+#define AW_PATH_SPECULAR 1u    // last scattering was a delta lobe: no MIS on a light hit
+#define AW_PATH_HAS_SHADOW 2u  // the lobe stage wrote a shadow ray this bounce
+
+#define AW_NONE 0xffffffffu
+
+// A handle on one path: the buffers, the pool size (the stride between fields) and the slot.
+typedef struct {
+  AW_GLOBAL float* sf;
+  AW_GLOBAL uint* su;
+  uint pool;
+  uint slot;
+} PathRef;
+
+#define PS_F(ps, name) ((ps).sf[(uint)AW_SF_##name * (ps).pool + (ps).slot])
+#define PS_U(ps, name) ((ps).su[(uint)AW_SU_##name * (ps).pool + (ps).slot])
+
+AW_FN float3 ps_ray_origin(PathRef ps) { return make_float3(PS_F(ps, ray_ox), PS_F(ps, ray_oy), PS_F(ps, ray_oz)); }
+AW_FN float3 ps_ray_dir(PathRef ps) { return make_float3(PS_F(ps, ray_dx), PS_F(ps, ray_dy), PS_F(ps, ray_dz)); }
+AW_FN void ps_set_ray(PathRef ps, float3 o, float3 d) {
+  PS_F(ps, ray_ox) = o.x; PS_F(ps, ray_oy) = o.y; PS_F(ps, ray_oz) = o.z;
+  PS_F(ps, ray_dx) = d.x; PS_F(ps, ray_dy) = d.y; PS_F(ps, ray_dz) = d.z;
+}
+AW_FN float3 ps_throughput(PathRef ps) { return make_float3(PS_F(ps, thr_r), PS_F(ps, thr_g), PS_F(ps, thr_b)); }
+AW_FN void ps_set_throughput(PathRef ps, float3 t) { PS_F(ps, thr_r) = t.x; PS_F(ps, thr_g) = t.y; PS_F(ps, thr_b) = t.z; }
+AW_FN float3 ps_radiance(PathRef ps) { return make_float3(PS_F(ps, rad_r), PS_F(ps, rad_g), PS_F(ps, rad_b)); }
+AW_FN void ps_add_radiance(PathRef ps, float3 l) { PS_F(ps, rad_r) += l.x; PS_F(ps, rad_g) += l.y; PS_F(ps, rad_b) += l.z; }
+AW_FN float3 ps_sp_position(PathRef ps) { return make_float3(PS_F(ps, sp_px), PS_F(ps, sp_py), PS_F(ps, sp_pz)); }
+AW_FN float3 ps_sp_normal(PathRef ps) { return make_float3(PS_F(ps, sp_nx), PS_F(ps, sp_ny), PS_F(ps, sp_nz)); }
+AW_FN float3 ps_sp_geo_normal(PathRef ps) { return make_float3(PS_F(ps, sp_gx), PS_F(ps, sp_gy), PS_F(ps, sp_gz)); }
+
+// Writes the closest hit of the extension ray (both intersectors end here).
+AW_FN void ps_set_hit(PathRef ps, float t, float u, float v, uint prim, uint light) {
+  PS_F(ps, hit_t) = t;
+  PS_F(ps, hit_u) = u;
+  PS_F(ps, hit_v) = v;
+  PS_U(ps, hit_prim) = prim;
+  PS_U(ps, hit_light) = light;
+}
+
+#endif

@@ -1,0 +1,75 @@
+// What every lobe stage does around its own lobe: next-event estimation (writes the shadow
+// ray) and continuing the path (Russian roulette, depth, the extension ray).
+#ifndef AW_INTEGRATOR_SHADE_COMMON_H
+#define AW_INTEGRATOR_SHADE_COMMON_H
+
+#include "common/ray.h"
+#include "common/rng.h"
+#include "common/sampling.h"
+#include "integrator/path_state.h"
+#include "integrator/queues.h"
+#include "integrator/scene_ref.h"
+#include "lights/lights.h"
+#include "lobes/lobe.h"
+
+// Picks a light and a point on it. Returns the sample and writes the pick into *light and
+// the combined (selection × solid angle) pdf into *pdf; pdf 0 = nothing to connect to.
+AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, float3 p,
+                                   uint* light, float* pdf) {
+  uint pixel = PS_U(ps, pixel), sample = PS_U(ps, sample), bounce = PS_U(ps, bounce);
+  float u_pick = rng_1d(rp->seed, pixel, sample, bounce, AW_DIM_LIGHT_PICK);
+  *light = light_pick(sc.lights, rp->num_lights, u_pick);
+  const AW_GLOBAL LightGpu* l = &sc.lights[*light];
+  LightSample ls = light_sample(l, p, rng_2d(rp->seed, pixel, sample, bounce, AW_DIM_LIGHT));
+  *pdf = ls.pdf * l->select_pdf;
+  return ls;
+}
+
+// Writes the shadow ray for a light sample whose unoccluded contribution is `contrib`.
+AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, uint light, float3 contrib) {
+  float3 o = offset_ray_origin(p, ng);
+  PS_F(ps, sh_ox) = o.x; PS_F(ps, sh_oy) = o.y; PS_F(ps, sh_oz) = o.z;
+  PS_F(ps, sh_dx) = ls.wi.x; PS_F(ps, sh_dy) = ls.wi.y; PS_F(ps, sh_dz) = ls.wi.z;
+  // Stop just short of the light: the offset origin moved a few ULPs, and the sampled point
+  // lies on the light itself (which the shadow test skips anyway, see sh_light).
+  PS_F(ps, sh_tmax) = ls.dist * (1.0f - 1e-4f);
+  PS_F(ps, sh_r) = contrib.x; PS_F(ps, sh_g) = contrib.y; PS_F(ps, sh_b) = contrib.z;
+  PS_U(ps, sh_light) = light;
+  PS_U(ps, flags) |= AW_PATH_HAS_SHADOW;
+}
+
+// Continues the path along a sampled lobe direction, or ends it. Russian roulette is
+// unbiased (Arvo & Kirk 1990, "Particle Transport and Image Synthesis", Sec. 3.3): from
+// rr_depth on, survival probability min(0.95, max throughput); below render.cutoff the
+// survival is throughput / cutoff, so weak paths stop early without bias.
+AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng, LobeSample s) {
+  uint bounce = PS_U(ps, bounce);
+  if (s.flags == 0u || bounce + 1u >= rp->max_depth) return AW_Q_DONE;
+  float3 wi = s.wi;
+  // A direction on the wrong side of the geometric surface (possible with interpolated
+  // normals) would leak through the mesh: end the path instead.
+  int transmit = (s.flags & AW_LOBE_TRANSMISSION) != 0u;
+  float cg = dot(wi, ng);
+  if (transmit ? cg >= 0.0f : cg <= 0.0f) return AW_Q_DONE;
+
+  float3 thr = ps_throughput(ps) * s.weight / PS_F(ps, lobe_pdf);
+  float m = max3(thr);
+  if (!(m > 0.0f) || !isfinite(m)) return AW_Q_DONE;
+  float q = 1.0f;
+  if (bounce + 1u >= rp->rr_depth) q = fmin(0.95f, m);
+  if (m < rp->cutoff) q = fmin(q, m / rp->cutoff);
+  if (q < 1.0f) {
+    float u = rng_1d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_RR);
+    if (u >= q) return AW_Q_DONE;
+    thr = thr / q;
+  }
+  ps_set_throughput(ps, thr);
+  PS_F(ps, bsdf_pdf) = s.pdf;  // the lobe's own density: see the MIS note in shade_diffuse
+  if (s.flags & AW_LOBE_SPECULAR) PS_U(ps, flags) |= AW_PATH_SPECULAR;
+  else PS_U(ps, flags) &= ~AW_PATH_SPECULAR;
+  ps_set_ray(ps, offset_ray_origin(p, transmit ? -ng : ng), wi);
+  PS_U(ps, bounce) = bounce + 1u;
+  return AW_Q_RAY;
+}
+
+#endif

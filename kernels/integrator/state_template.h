@@ -1,0 +1,39 @@
+// The path state, declared once (Cycles' state_template.h is the model).
+// Expanded into SoA buffers for the wavefront (field-major: field * pool + slot, so neighbouring
+// work-items touch neighbouring words) and into plain arrays of one path for the scalar path.
+// Every field is 32 bits: F = float, U = uint.
+//
+// Included without a guard on purpose: define AW_STATE_F / AW_STATE_U, include, undefine.
+
+/* The ray the path will trace next (extension ray). */
+AW_STATE_F(ray_ox) AW_STATE_F(ray_oy) AW_STATE_F(ray_oz)
+AW_STATE_F(ray_dx) AW_STATE_F(ray_dy) AW_STATE_F(ray_dz)
+/* Path throughput and the radiance gathered so far. */
+AW_STATE_F(thr_r) AW_STATE_F(thr_g) AW_STATE_F(thr_b)
+AW_STATE_F(rad_r) AW_STATE_F(rad_g) AW_STATE_F(rad_b)
+/* Solid-angle pdf of the last scattering direction (MIS when that ray hits a light). */
+AW_STATE_F(bsdf_pdf)
+/* Closest hit of the extension ray. */
+AW_STATE_F(hit_t) AW_STATE_F(hit_u) AW_STATE_F(hit_v)
+/* Shading point written by classify_hit for the lobe stage: position, shading normal and
+ * geometric normal, both facing the incoming ray's origin side. */
+AW_STATE_F(sp_px) AW_STATE_F(sp_py) AW_STATE_F(sp_pz)
+AW_STATE_F(sp_nx) AW_STATE_F(sp_ny) AW_STATE_F(sp_nz)
+AW_STATE_F(sp_gx) AW_STATE_F(sp_gy) AW_STATE_F(sp_gz)
+/* Probability with which classify_hit chose the current lobe. */
+AW_STATE_F(lobe_pdf)
+/* Shadow ray and what it adds if unoccluded. */
+AW_STATE_F(sh_ox) AW_STATE_F(sh_oy) AW_STATE_F(sh_oz)
+AW_STATE_F(sh_dx) AW_STATE_F(sh_dy) AW_STATE_F(sh_dz)
+AW_STATE_F(sh_tmax)
+AW_STATE_F(sh_r) AW_STATE_F(sh_g) AW_STATE_F(sh_b)
+
+AW_STATE_U(job)       /* batch-local job index: where the result goes */
+AW_STATE_U(pixel)
+AW_STATE_U(sample)
+AW_STATE_U(bounce)    /* scattering events so far = index of the vertex being shaded */
+AW_STATE_U(flags)     /* AW_PATH_* */
+AW_STATE_U(hit_prim)  /* original triangle id, or ~0u */
+AW_STATE_U(hit_light) /* light index, or ~0u */
+AW_STATE_U(material)
+AW_STATE_U(sh_light)  /* light the shadow ray aims at (it must not occlude itself), or ~0u */

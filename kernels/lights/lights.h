@@ -1,0 +1,188 @@
+// Lights: selection, sampling for next-event estimation, and analytic intersection.
+//
+// Area lights are intersected analytically (not tessellated into the BVH) so that the shape a
+// BSDF-sampled ray hits is exactly the shape light sampling draws from; otherwise MIS weights
+// would disagree at silhouettes of disks and spheres. Units follow SCENE_FORMAT.md: area
+// lights store radiance, point lights radiant intensity.
+#ifndef AW_LIGHTS_LIGHTS_H
+#define AW_LIGHTS_LIGHTS_H
+
+#include "common/compat.h"
+#include "common/sampling.h"
+#include "types/scene.h"
+
+typedef struct {
+  float3 wi;      // unit direction from the shading point to the light
+  float dist;     // distance to the sampled point
+  float3 le;      // emitted radiance (area) or intensity / dist^2 (point) towards the point
+  float pdf;      // solid-angle pdf of wi given this light (1 for delta lights)
+  int is_delta;
+} LightSample;
+
+// Picks a light with probability select_pdf (proportional to emitted power, computed by the
+// host): a linear scan of the CDF, fine for the handful of lights these scenes have.
+AW_FN uint light_pick(const AW_GLOBAL LightGpu* lights, uint num_lights, float u) {
+  for (uint i = 0; i + 1 < num_lights; ++i)
+    if (u < lights[i].select_cdf) return i;
+  return num_lights - 1;
+}
+
+// Radiance leaving an area light towards direction -dir (dir = ray direction hitting it).
+AW_FN float3 light_emitted(const AW_GLOBAL LightGpu* l, float3 dir) {
+  float3 le = load_f3(l->radiance);
+  if (l->type == AW_LIGHT_SPHERE) return le;
+  float c = -dot(load_f3(l->n), dir);
+  if (c > 0.0f || (l->flags & AW_LIGHT_TWO_SIDED)) return le;
+  return make_float3(0.0f, 0.0f, 0.0f);
+}
+
+// sin^2 of the half-angle a sphere subtends, and 1 - cos of it without cancellation.
+AW_FN float sphere_one_minus_cos_max(float sin2_max) {
+  float cos_max = safe_sqrt(1.0f - sin2_max);
+  return sin2_max / (1.0f + cos_max);
+}
+
+// Solid-angle pdf (given the light is chosen) of reaching `l` from `p` along unit `dir`,
+// hitting it at distance `t`. Must match light_sample exactly (MIS relies on it).
+AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t) {
+  if (l->type == AW_LIGHT_POINT) return 0.0f;
+  if (l->type == AW_LIGHT_SPHERE) {
+    float3 c = load_f3(l->p);
+    float3 pc = c - p;
+    float d2 = dot(pc, pc);
+    float r2 = l->radius * l->radius;
+    if (d2 > r2) {
+      // Uniform cone sampling: pbrt-v3, Sec. 14.2.2 ("Sampling Spheres").
+      float omc = sphere_one_minus_cos_max(r2 / d2);
+      return 1.0f / (2.0f * M_PI_F * omc);
+    }
+    float3 y = p + t * dir;
+    float cos_l = fabs(dot(normalize(y - c), dir));
+    return cos_l > 0.0f ? (t * t) / (l->area * cos_l) : 0.0f;
+  }
+  float cos_l = fabs(dot(load_f3(l->n), dir));
+  return cos_l > 0.0f ? (t * t) / (l->area * cos_l) : 0.0f;
+}
+
+// Samples a point on light `l` as seen from `p` (Veach 1997, Sec. 9.2: area sampling
+// converted to solid angle by dist^2 / cos). pdf = 0 when the sample cannot contribute.
+AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) {
+  LightSample s;
+  s.is_delta = 0;
+  s.pdf = 0.0f;
+  s.le = make_float3(0.0f, 0.0f, 0.0f);
+  s.dist = 0.0f;
+  s.wi = make_float3(0.0f, 0.0f, 1.0f);
+  float3 y;
+  if (l->type == AW_LIGHT_POINT) {
+    float3 d = load_f3(l->p) - p;
+    float d2 = dot(d, d);
+    if (!(d2 > 0.0f)) return s;
+    s.dist = sqrt(d2);
+    s.wi = d / s.dist;
+    s.le = load_f3(l->radiance) / d2;
+    s.pdf = 1.0f;
+    s.is_delta = 1;
+    return s;
+  }
+  if (l->type == AW_LIGHT_SPHERE) {
+    float3 c = load_f3(l->p);
+    float3 pc = c - p;
+    float d2 = dot(pc, pc);
+    float r2 = l->radius * l->radius;
+    if (d2 > r2) {
+      // Outside: sample the cone of directions the sphere subtends (pbrt-v3, Sec. 14.2.2).
+      float dc = sqrt(d2);
+      float omc = sphere_one_minus_cos_max(r2 / d2);
+      float cos_t = 1.0f - u.x * omc;
+      float sin2_t = fmax(0.0f, (1.0f - cos_t) * (1.0f + cos_t));
+      float phi = 2.0f * M_PI_F * u.y;
+      float3 w = pc / dc, t, b;
+      make_frame(w, &t, &b);
+      float sin_t = sqrt(sin2_t);
+      s.wi = normalize(frame_to_world(make_float3(cos(phi) * sin_t, sin(phi) * sin_t, cos_t), t, b, w));
+      // Nearest intersection along the sampled direction; the max() guards rays that graze
+      // the silhouette by round-off.
+      s.dist = dc * cos_t - safe_sqrt(r2 - d2 * sin2_t);
+      s.pdf = 1.0f / (2.0f * M_PI_F * omc);
+      s.le = load_f3(l->radiance);
+      return s;
+    }
+    // Inside the sphere: uniform area sampling of its surface.
+    float z = 1.0f - 2.0f * u.x;
+    float rxy = safe_sqrt(1.0f - z * z);
+    float phi = 2.0f * M_PI_F * u.y;
+    float3 nrm = make_float3(rxy * cos(phi), rxy * sin(phi), z);
+    y = c + l->radius * nrm;
+  } else if (l->type == AW_LIGHT_QUAD) {
+    y = load_f3(l->p) + u.x * load_f3(l->u) + u.y * load_f3(l->v);
+  } else {  // disk
+    float2 d = sample_concentric_disk(u);
+    y = load_f3(l->p) + l->radius * (d.x * load_f3(l->u) + d.y * load_f3(l->v));
+  }
+  float3 d = y - p;
+  float d2 = dot(d, d);
+  if (!(d2 > 0.0f)) return s;
+  s.dist = sqrt(d2);
+  s.wi = d / s.dist;
+  float pdf = light_pdf(l, p, s.wi, s.dist);
+  if (!(pdf > 0.0f) || !isfinite(pdf)) return s;
+  s.le = light_emitted(l, s.wi);
+  s.pdf = pdf;
+  return s;
+}
+
+// Distance along (org, dir) to area light `l` within (t_min, t_max), or -1.
+AW_FN float light_intersect(const AW_GLOBAL LightGpu* l, float3 org, float3 dir, float t_min, float t_max) {
+  if (l->type == AW_LIGHT_POINT) return -1.0f;
+  if (l->type == AW_LIGHT_SPHERE) {
+    // Geometric form of the quadratic, stable for far spheres: the discriminant is formed
+    // from the squared distance to the ray (Haines et al. 2019, Ray Tracing Gems Ch. 7, Eq. 8).
+    float3 c = load_f3(l->p);
+    float3 f = org - c;
+    float b = -dot(f, dir);
+    float3 perp = f + b * dir;
+    float r2 = l->radius * l->radius;
+    float disc = r2 - dot(perp, perp);
+    if (disc < 0.0f) return -1.0f;
+    float sq = sqrt(disc);
+    float t0 = b - sq, t1 = b + sq;
+    if (t0 > t_min && t0 < t_max) return t0;
+    if (t1 > t_min && t1 < t_max) return t1;
+    return -1.0f;
+  }
+  float3 n = load_f3(l->n);
+  float denom = dot(n, dir);
+  if (fabs(denom) < 1e-12f) return -1.0f;
+  float3 p0 = load_f3(l->p);
+  float t = dot(n, p0 - org) / denom;
+  if (!(t > t_min && t < t_max)) return -1.0f;
+  float3 q = org + t * dir - p0;
+  if (l->type == AW_LIGHT_QUAD) {
+    // Parallelogram coordinates via cross products (edges need not be orthogonal).
+    float3 eu = load_f3(l->u), ev = load_f3(l->v);
+    float a = dot(cross(q, ev), n) / l->area;
+    float bb = dot(cross(eu, q), n) / l->area;
+    return (a >= 0.0f && a <= 1.0f && bb >= 0.0f && bb <= 1.0f) ? t : -1.0f;
+  }
+  return dot(q, q) <= l->radius * l->radius ? t : -1.0f;
+}
+
+// Closest area light along the ray, skipping `skip` (the light a shadow ray aims at) and, for
+// camera rays, lights marked invisible. Returns the light index or -1; *t is updated.
+AW_FN int lights_intersect(const AW_GLOBAL LightGpu* lights, uint num_lights, float3 org, float3 dir,
+                           float t_min, float* t, int camera_ray, int skip) {
+  int found = -1;
+  for (uint i = 0; i < num_lights; ++i) {
+    if ((int)i == skip) continue;
+    if (camera_ray && !(lights[i].flags & AW_LIGHT_VISIBLE)) continue;
+    float th = light_intersect(&lights[i], org, dir, t_min, *t);
+    if (th > 0.0f) {
+      *t = th;
+      found = (int)i;
+    }
+  }
+  return found;
+}
+
+#endif

@@ -1,0 +1,36 @@
+// The lobe contract, written once (Mitsuba 3's bsdf.h is the model). Every lobe in
+// kernels/lobes/ provides, in the LOCAL shading frame (+z = shading normal, wo and wi unit
+// vectors pointing away from the surface):
+//
+//   float3 lobe_<name>_eval(params, wo, wi)   f(wo, wi) * |cos theta_i|; 0 where the lobe
+//                                             has no support (never NaN)
+//   float  lobe_<name>_pdf(params, wo, wi)    solid-angle density of lobe_<name>_sample
+//                                             choosing wi; 0 for delta lobes
+//   LobeSample lobe_<name>_sample(params, wo, u)
+//                                             draws wi from the explicit random numbers u
+//                                             (never an RNG); weight = eval / pdf, or the
+//                                             delta weight; pdf = 0 and weight = 0 on failure
+//
+// Flags tell MIS and the path logic what kind of scattering happened (pbrt-v4's BxDFFlags).
+#ifndef AW_LOBES_LOBE_H
+#define AW_LOBES_LOBE_H
+
+#include "common/compat.h"
+
+#define AW_LOBE_REFLECTION 1u
+#define AW_LOBE_TRANSMISSION 2u
+#define AW_LOBE_DIFFUSE 4u
+#define AW_LOBE_GLOSSY 8u
+#define AW_LOBE_SPECULAR 16u  // delta: no MIS, no light sampling
+#define AW_LOBE_DIFFUSE_REFLECTION (AW_LOBE_DIFFUSE | AW_LOBE_REFLECTION)
+
+typedef struct {
+  float3 wi;
+  float3 weight;
+  float pdf;
+  uint flags;  // 0 = no sample
+} LobeSample;
+
+AW_FN float cos_theta(float3 w) { return w.z; }
+
+#endif

@@ -1,0 +1,76 @@
+// Scene data shared by host and kernels: materials, lights, render parameters.
+// Plain 4-byte fields only; sizes and offsets are asserted on both sides (tests/types).
+#ifndef AW_TYPES_SCENE_H
+#define AW_TYPES_SCENE_H
+
+// What the kernels need of a material (packed from host/scene/material_desc.h). The
+// foundation renders the diffuse lobe only; the material issue grows this struct.
+typedef struct {
+  float diffuse_color[3];  // colour × weight, pre-multiplied by the host
+  float diffuse_roughness;
+  uint flags;
+  float pad[3];
+} MaterialGpu;
+
+#define AW_LIGHT_POINT 0
+#define AW_LIGHT_QUAD 1
+#define AW_LIGHT_DISK 2
+#define AW_LIGHT_SPHERE 3
+
+#define AW_LIGHT_TWO_SIDED 1u
+#define AW_LIGHT_VISIBLE 2u
+
+// One light. Meaning of p/u/v by type:
+//   point:  p = position
+//   quad:   p = corner, u = edge_u, v = edge_v, n = unit normal (edge_u × edge_v)
+//   disk:   p = center, n = unit normal, u/v = orthonormal tangents, radius
+//   sphere: p = center, radius
+// radiance: W/m²/sr for area lights; for point lights the radiant intensity (W/sr).
+typedef struct {
+  uint type;
+  uint flags;
+  float radius;
+  float area;
+  float p[3];
+  float select_pdf;  // probability that light sampling picks this light
+  float u[3];
+  float select_cdf;  // cumulative select_pdf up to and including this light
+  float v[3];
+  float pad0;
+  float n[3];
+  float pad1;
+  float radiance[3];
+  float pad2;
+} LightGpu;
+
+// Per-launch parameters, passed by value. Pixel (0,0) is the top-left corner.
+typedef struct {
+  float cam_origin[3];
+  float tan_half_fov;
+  float cam_forward[3];
+  float aspect;
+  float cam_right[3];
+  float clamp;  // 0 = off
+  float cam_up[3];
+  float cutoff;
+  float env_radiance[3];
+  uint seed;
+  uint width;
+  uint height;
+  uint max_depth;
+  uint gi;
+  uint num_lights;
+  uint num_nodes;
+  uint pool_size;
+  uint rr_depth;      // first bounce at which Russian roulette may end a path
+  // Jobs are (pixel, sample) pairs in sample-major order. A batch is a contiguous run of
+  // jobs starting at (batch_pixel, batch_sample); local job i of the batch is
+  // pixel (batch_pixel + i) % pixels of sample batch_sample + (batch_pixel + i) / pixels.
+  // Kept as two 32-bit numbers so a 4K render at thousands of spp does not overflow.
+  uint batch_pixel;
+  uint batch_sample;
+  uint job_count;  // jobs in this batch
+  uint pad;
+} RenderParams;
+
+#endif
