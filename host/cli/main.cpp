@@ -62,8 +62,10 @@ int main(int argc, char** argv) {
       "4 OpenCL/device error, 5 output error, 130 interrupted (partial image written)."};
   app.set_version_flag("--version", ARCHWAVE_VERSION);
   std::string scene_path, output;
-  int spp = -1, width = -1, height = -1, device = 0, threads = 0;
-  long long seed = -1;
+  // Flags are kept as text and handed to the scene loader as overrides, so "--spp -1" or
+  // "--width 0" is rejected with the same message as in a scene file.
+  std::string spp, width, height, seed;
+  int device = 0, threads = 0;
   bool scalar = false, list = false, quiet = false, no_progress = false;
   std::vector<std::string> defines;
   std::string kernel_dir = aw::default_kernel_dir();
@@ -106,10 +108,10 @@ int main(int argc, char** argv) {
     }
     // Flags become overrides so they are validated exactly like the scene's own keys.
     std::vector<std::string> overrides = defines;
-    if (spp != -1) overrides.push_back("render.spp=" + std::to_string(spp));
-    if (seed != -1) overrides.push_back("render.seed=" + std::to_string(seed));
-    if (width != -1) overrides.push_back("render.width=" + std::to_string(width));
-    if (height != -1) overrides.push_back("render.height=" + std::to_string(height));
+    if (app.count("--spp")) overrides.push_back("render.spp=" + spp);
+    if (app.count("--seed")) overrides.push_back("render.seed=" + seed);
+    if (app.count("--width")) overrides.push_back("render.width=" + width);
+    if (app.count("--height")) overrides.push_back("render.height=" + height);
     aw::Scene scene = aw::load_scene(scene_path, overrides);
 
     if (output.empty()) output = default_output(scene_path);
