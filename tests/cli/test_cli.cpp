@@ -1,0 +1,191 @@
+// The command line as a user meets it: exit codes, messages, nothing written on error, and an
+// interrupted render that keeps what it has. Runs the real binary.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "host/film/image_io.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string src(const std::string& rel) { return std::string(ARCHWAVE_SOURCE_DIR) + "/" + rel; }
+
+struct CliRun {
+  int code;
+  std::string err;
+};
+
+// Runs archwave with `args`, capturing stderr; returns the exit code.
+CliRun run(const std::string& args) {
+  std::string errfile = testing::TempDir() + "/archwave_stderr.txt";
+  std::string cmd = std::string(ARCHWAVE_BINARY) + " " + args + " 2>" + errfile + " >/dev/null";
+  int status = std::system(cmd.c_str());
+  std::ifstream in(errfile);
+  std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, err};
+}
+
+std::string write_scene(const std::string& name, const std::string& json) {
+  std::string dir = testing::TempDir() + "/cli_scenes";
+  fs::create_directories(dir);
+  std::string p = dir + "/" + name;
+  std::ofstream(p) << json;
+  return p;
+}
+
+const char* kMinimal = R"({
+  "render": { "width": 8, "height": 8, "spp": 1 },
+  "materials": { "m": { "diffuse": { "color": [0.5, 0.5, 0.5] } } },
+  "objects": [ { "shape": "sphere", "center": [0, 1, 0], "radius": 0.5, "material": "m" } ]
+})";
+
+struct BadCase {
+  const char* name;
+  const char* json;
+  const char* fragment;  // must appear in the message
+};
+
+// One malformed scene per kind of mistake; each must fail with exit code 3, name the file and
+// position, and write nothing.
+const BadCase kBad[] = {
+    {"bad_json.json", "{\n  \"render\": { \"width\": 8,, }\n}", "bad_json.json:2:"},
+    {"wrong_type.json", "{\n  \"render\": { \"spp\": \"many\" }\n}", "render.spp"},
+    {"unknown_key.json", "{\n  \"render\": { \"sppp\": 4 }\n}", "sppp"},
+    {"unknown_material_key.json",
+     "{\n \"materials\": { \"m\": { \"diffuse\": { \"colour\": [1,1,1] } } }\n}", "materials.m.diffuse.colour"},
+    {"missing_mesh.json",
+     "{\n \"materials\": { \"m\": {} },\n \"objects\": [ { \"shape\": \"mesh\", \"file\": \"nope/missing.obj\", "
+     "\"material\": \"m\" } ]\n}",
+     "nope/missing.obj"},
+    {"unknown_material.json",
+     "{\n \"materials\": { \"m\": {} },\n \"objects\": [ { \"shape\": \"sphere\", \"material\": \"glass\" } ]\n}",
+     "glass"},
+    {"zero_size.json", "{\n  \"render\": { \"width\": 0 }\n}", "render.width"},
+    {"negative_spp.json", "{\n  \"render\": { \"spp\": -4 }\n}", "render.spp"},
+};
+
+TEST(CliBadInput, EachMalformedSceneFailsWithItsMessageAndWritesNothing) {
+  for (const BadCase& c : kBad) {
+    std::string scene = write_scene(c.name, c.json);
+    std::string out = testing::TempDir() + "/should_not_exist.exr";
+    fs::remove(out);
+    CliRun r = run(scene + " -o " + out);
+    EXPECT_EQ(r.code, 3) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.fragment), std::string::npos) << c.name << ": message was: " << r.err;
+    EXPECT_NE(r.err.find(c.name), std::string::npos) << c.name << ": message does not name the file: " << r.err;
+    EXPECT_FALSE(fs::exists(out)) << c.name;
+    EXPECT_FALSE(fs::exists(fs::path(out).replace_extension(".png"))) << c.name;
+  }
+}
+
+TEST(CliBadInput, MissingSceneFileNamesThePath) {
+  CliRun r = run(src("scenes/does_not_exist.json") + " -o " + testing::TempDir() + "/x.exr");
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("does_not_exist.json"), std::string::npos) << r.err;
+}
+
+TEST(CliBadInput, FlagsAreValidatedLikeSceneKeys) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  for (const char* flags : {"--spp -1", "--spp 0", "--width 0", "--height -3", "--spp many", "-D render.gi=7"}) {
+    CliRun r = run(scene + " -o " + testing::TempDir() + "/x.exr " + flags);
+    EXPECT_EQ(r.code, 3) << flags << ": " << r.err;
+    EXPECT_NE(r.err.find("command line"), std::string::npos) << flags << ": " << r.err;
+  }
+}
+
+TEST(CliBadInput, UnknownFlagIsAUsageError) {
+  CliRun r = run("--no-such-flag");
+  EXPECT_EQ(r.code, 2) << r.err;
+}
+
+TEST(CliBadInput, BadDeviceIndexListsDevices) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  CliRun r = run(scene + " --device 99 -o " + testing::TempDir() + "/x.exr");
+  EXPECT_EQ(r.code, 4) << r.err;
+  EXPECT_NE(r.err.find("--device 99"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("[0]"), std::string::npos) << "the message should list the devices: " << r.err;
+}
+
+TEST(CliBadInput, UnwritableOutputFailsBeforeRendering) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  CliRun r = run(scene + " -o /nonexistent_dir_archwave/x.exr");
+  EXPECT_EQ(r.code, 5) << r.err;
+  EXPECT_NE(r.err.find("/nonexistent_dir_archwave"), std::string::npos) << r.err;
+}
+
+TEST(Cli, HelpDocumentsEveryFlag) {
+  std::string out = testing::TempDir() + "/help.txt";
+  int status = std::system((std::string(ARCHWAVE_BINARY) + " --help >" + out).c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  std::ifstream in(out);
+  std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  for (const char* flag : {"--output", "--spp", "--seed", "--width", "--height", "--device", "--scalar",
+                           "--list-devices", "--define", "--kernels", "--pool", "--quiet"})
+    EXPECT_NE(help.find(flag), std::string::npos) << flag;
+}
+
+TEST(Cli, ListDevicesShowsPoCL) {
+  CliRun r = run("--list-devices");
+  EXPECT_EQ(r.code, 0);
+}
+
+TEST(Cli, RenderWritesExrAndPngWithHeader) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  std::string out = testing::TempDir() + "/ok.exr";
+  CliRun r = run(scene + " --spp 2 --seed 5 -o " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(testing::TempDir() + "/ok.png"));
+  aw::Image img = aw::read_exr(out);
+  EXPECT_EQ(img.width, 8);
+  EXPECT_EQ(img.int_attrs["spp"], 2);
+  EXPECT_EQ(img.int_attrs["seed"], 5);
+  // The stats summary is printed (stage times, rays, NaN count).
+  EXPECT_NE(r.err.find("Mrays/s"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("NaN/Inf samples"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("intersect_closest"), std::string::npos) << r.err;
+  // Not a terminal: no progress line (no carriage returns).
+  EXPECT_EQ(r.err.find('\r'), std::string::npos);
+}
+
+// An interrupted render writes the samples it completed, says so, and exits 130.
+TEST(Cli, InterruptKeepsWhatWasRendered) {
+  std::string out = testing::TempDir() + "/interrupted.exr";
+  fs::remove(out);
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::string errf = testing::TempDir() + "/interrupted_stderr.txt";
+    freopen(errf.c_str(), "w", stderr);
+    execl(ARCHWAVE_BINARY, ARCHWAVE_BINARY, src("scenes/cornell.json").c_str(), "--spp", "100000", "--width", "64",
+          "--height", "64", "-o", out.c_str(), (char*)nullptr);
+    _exit(127);
+  }
+  // Let it compile and render a while (kernels are cached by other tests), then ^C.
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  ASSERT_TRUE(fs::exists(out));
+  aw::Image img = aw::read_exr(out);
+  EXPECT_GT(img.int_attrs["spp"], 0) << "some samples were complete";
+  EXPECT_LT(img.int_attrs["spp"], 100000);
+  EXPECT_EQ(img.string_attrs["archwave:interrupted"], "yes");
+  double mean = 0.0;
+  for (float v : img.rgb) mean += v;
+  EXPECT_GT(mean, 0.0);
+}
+
+}  // namespace
