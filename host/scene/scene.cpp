@@ -1,0 +1,541 @@
+// load_scene: JSON text -> validated, defaulted, triangulated Scene (docs/scene-format.md).
+#include "host/scene/scene.h"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "host/scene/loader_parts.h"
+
+namespace aw {
+namespace scene_detail {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kMaxInt = std::numeric_limits<int>::max();
+
+// Small helper: run `fn(node)` when `key` is present in `obj`.
+template <class Fn>
+void if_present(const Node& obj, const char* key, Fn fn) {
+  Node c = child(obj, key);
+  if (c.j) fn(c);
+}
+
+glm::vec3 read_colour_nonnegative(const LoadContext& ctx, const Node& n) {
+  const glm::dvec3 c = read_colour(ctx, n);
+  if (c.x < 0 || c.y < 0 || c.z < 0) {
+    ctx.fail(n.path, "colour components must be >= 0, got " + describe(*n.j));
+  }
+  return glm::vec3(c);
+}
+
+glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
+
+// ---- render ----------------------------------------------------------------------------------
+
+void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
+  expect_object(ctx, n,
+                {"width", "height", "spp", "seed", "max_depth", "reflection_depth",
+                 "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp"});
+  // 65536 per side is far beyond any film we write and keeps width * height in range.
+  if_present(n, "width", [&](const Node& c) { r->width = read_int_in(ctx, c, 1, 65536); });
+  if_present(n, "height", [&](const Node& c) { r->height = read_int_in(ctx, c, 1, 65536); });
+  if_present(n, "spp", [&](const Node& c) { r->spp = read_int_in(ctx, c, 1, kMaxInt); });
+  if_present(n, "seed", [&](const Node& c) {
+    const int64_t v = read_integer(ctx, c);
+    if (v < 0 || v > static_cast<int64_t>(std::numeric_limits<uint32_t>::max())) {
+      ctx.fail(c.path, "must be a non-negative integer below 2^32, got " + describe(*c.j));
+    }
+    r->seed = static_cast<uint32_t>(v);
+  });
+  if_present(n, "max_depth",
+             [&](const Node& c) { r->max_depth = read_int_in(ctx, c, 0, kMaxInt); });
+  if_present(n, "reflection_depth",
+             [&](const Node& c) { r->reflection_depth = read_int_in(ctx, c, 0, kMaxInt); });
+  if_present(n, "refraction_depth",
+             [&](const Node& c) { r->refraction_depth = read_int_in(ctx, c, 0, kMaxInt); });
+  if_present(n, "gi", [&](const Node& c) { r->gi = read_bool(ctx, c); });
+  if_present(n, "cutoff", [&](const Node& c) {
+    r->cutoff = static_cast<float>(read_number_in(ctx, c, Range{0, 1}));
+  });
+  if_present(n, "lobe_splitting", [&](const Node& c) { r->lobe_splitting = read_bool(ctx, c); });
+  if_present(n, "clamp", [&](const Node& c) {
+    r->clamp = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
+  });
+}
+
+// ---- camera ----------------------------------------------------------------------------------
+
+void parse_exposure(const LoadContext& ctx, const Node& n, ExposureDesc* e) {
+  // All keys are accepted in both modes (and stored) so that -D camera.exposure.mode=stops
+  // works on a scene written for photographic exposure.
+  expect_object(ctx, n,
+                {"mode", "stops", "iso", "shutter", "f_number", "whitepoint", "vignetting"});
+  if_present(n, "mode", [&](const Node& c) {
+    e->mode = read_enum<ExposureDesc::Mode>(
+        ctx, c,
+        {{"stops", ExposureDesc::Mode::Stops}, {"photographic", ExposureDesc::Mode::Photographic}});
+  });
+  if_present(n, "stops",
+             [&](const Node& c) { e->stops = static_cast<float>(read_number(ctx, c)); });
+  const Range positive{0, kInf, true};
+  if_present(n, "iso",
+             [&](const Node& c) { e->iso = static_cast<float>(read_number_in(ctx, c, positive)); });
+  if_present(n, "shutter", [&](const Node& c) {
+    e->shutter = static_cast<float>(read_number_in(ctx, c, positive));
+  });
+  if_present(n, "f_number", [&](const Node& c) {
+    e->f_number = static_cast<float>(read_number_in(ctx, c, positive));
+  });
+  if_present(n, "whitepoint", [&](const Node& c) {
+    const glm::dvec3 w = read_colour(ctx, c);
+    // The white point divides the image; a zero or negative channel has no meaning.
+    if (!(w.x > 0 && w.y > 0 && w.z > 0)) {
+      ctx.fail(c.path, "white point components must be > 0, got " + describe(*c.j));
+    }
+    e->whitepoint = to_f(w);
+  });
+  if_present(n, "vignetting", [&](const Node& c) {
+    e->vignetting = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
+  });
+}
+
+void parse_camera(const LoadContext& ctx, const Node& n, CameraDesc* cam) {
+  expect_object(ctx, n, {"position", "look_at", "up", "fov", "exposure"});
+  glm::dvec3 position(cam->position), look_at(cam->look_at), up(cam->up);
+  if_present(n, "position", [&](const Node& c) { position = read_vec3(ctx, c); });
+  if_present(n, "look_at", [&](const Node& c) { look_at = read_vec3(ctx, c); });
+  if_present(n, "up", [&](const Node& c) { up = read_vec3(ctx, c); });
+  if_present(n, "fov", [&](const Node& c) {
+    cam->fov = static_cast<float>(read_number_in(ctx, c, Range{0, 180, true, true}));
+  });
+  if_present(n, "exposure", [&](const Node& c) { parse_exposure(ctx, c, &cam->exposure); });
+
+  // A camera without a viewing direction or with "up" along it has no orientation; reject
+  // it here rather than render NaNs.
+  const glm::dvec3 dir = look_at - position;
+  if (!(glm::length(dir) > 0)) {
+    ctx.fail(join_key(n.path, "look_at"), "must differ from camera.position");
+  }
+  const double sin_angle = glm::length(glm::cross(dir, up)) / (glm::length(dir) * glm::length(up));
+  if (!(sin_angle > 1e-6)) {
+    ctx.fail(join_key(n.path, "up"), "must be non-zero and not parallel to the viewing direction");
+  }
+  cam->position = to_f(position);
+  cam->look_at = to_f(look_at);
+  cam->up = to_f(up);
+}
+
+// ---- environment -----------------------------------------------------------------------------
+
+void parse_environment(const LoadContext& ctx, const Node& n, EnvironmentDesc* env) {
+  expect_object_any_keys(ctx, n);
+  // The type decides which keys are valid, so read it before checking the key set: a "map"
+  // environment must say "not supported yet", not "unknown key file".
+  if_present(n, "type", [&](const Node& c) {
+    const std::string type = read_string(ctx, c);
+    if (type == "map" || type == "sky") {
+      ctx.fail(c.path, "environment type \"" + type +
+                           "\" is not supported yet (only \"constant\" for now)");
+    }
+    env->type =
+        read_enum<EnvironmentDesc::Type>(ctx, c, {{"constant", EnvironmentDesc::Type::Constant}});
+  });
+  expect_object(ctx, n, {"type", "color", "intensity"});
+  if_present(n, "color", [&](const Node& c) { env->color = read_colour_nonnegative(ctx, c); });
+  if_present(n, "intensity", [&](const Node& c) {
+    env->intensity = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
+  });
+}
+
+// ---- lights ----------------------------------------------------------------------------------
+
+void parse_light(const LoadContext& ctx, const Node& n, LightDesc* l) {
+  expect_object_any_keys(ctx, n);
+  const Node type_node = require(ctx, n, "type");
+  const std::string type = read_string(ctx, type_node);
+  if (type == "sun") {
+    ctx.fail(type_node.path,
+             "sun lights are not supported yet (they come with the sky environment)");
+  }
+  l->type = read_enum<LightDesc::Type>(ctx, type_node,
+                                       {{"point", LightDesc::Type::Point},
+                                        {"quad", LightDesc::Type::Quad},
+                                        {"disk", LightDesc::Type::Disk},
+                                        {"sphere", LightDesc::Type::Sphere}});
+  switch (l->type) {
+    case LightDesc::Type::Point:
+      expect_object(ctx, n, {"type", "position", "color", "intensity"});
+      break;
+    case LightDesc::Type::Quad:
+      expect_object(
+          ctx, n,
+          {"type", "corner", "edge_u", "edge_v", "color", "intensity", "two_sided", "visible"});
+      break;
+    case LightDesc::Type::Disk:
+      expect_object(
+          ctx, n,
+          {"type", "center", "normal", "radius", "color", "intensity", "two_sided", "visible"});
+      break;
+    case LightDesc::Type::Sphere:
+      expect_object(ctx, n, {"type", "center", "radius", "color", "intensity", "visible"});
+      break;
+  }
+  if_present(n, "color", [&](const Node& c) { l->color = read_colour_nonnegative(ctx, c); });
+  if_present(n, "intensity", [&](const Node& c) {
+    l->intensity = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
+  });
+  if_present(n, "position", [&](const Node& c) { l->position = to_f(read_vec3(ctx, c)); });
+  if_present(n, "center", [&](const Node& c) { l->center = to_f(read_vec3(ctx, c)); });
+  if_present(n, "radius", [&](const Node& c) {
+    l->radius = static_cast<float>(read_number_in(ctx, c, Range{0, kInf, true}));
+  });
+  if_present(n, "normal", [&](const Node& c) {
+    const glm::dvec3 v = read_vec3(ctx, c);
+    if (!(glm::length(v) > 0)) ctx.fail(c.path, "must not be the zero vector");
+    l->normal = to_f(glm::normalize(v));
+  });
+  if_present(n, "corner", [&](const Node& c) { l->corner = to_f(read_vec3(ctx, c)); });
+  if_present(n, "edge_u", [&](const Node& c) { l->edge_u = to_f(read_vec3(ctx, c)); });
+  if_present(n, "edge_v", [&](const Node& c) { l->edge_v = to_f(read_vec3(ctx, c)); });
+  if_present(n, "two_sided", [&](const Node& c) { l->two_sided = read_bool(ctx, c); });
+  if_present(n, "visible", [&](const Node& c) { l->visible = read_bool(ctx, c); });
+  if (l->type == LightDesc::Type::Quad &&
+      !(glm::length(glm::cross(glm::dvec3(l->edge_u), glm::dvec3(l->edge_v))) > 0)) {
+    ctx.fail(join_key(n.path, "edge_v"), "edge_u and edge_v must span a non-zero area");
+  }
+}
+
+// ---- objects ---------------------------------------------------------------------------------
+
+glm::dmat4 parse_transform(const LoadContext& ctx, const Node& n) {
+  expect_object(ctx, n, {"translate", "rotate", "scale", "matrix"});
+  glm::dmat4 m(1.0);
+  if (Node mat = child(n, "matrix"); mat.j) {
+    for (const char* k : {"translate", "rotate", "scale"}) {
+      if (has(n, k)) {
+        ctx.fail(
+            join_key(n.path, k),
+            "cannot be combined with \"matrix\" (use either matrix or translate/rotate/scale)");
+      }
+    }
+    if (!mat.j->is_array()) {
+      ctx.fail(mat.path,
+               "expected an array of 16 numbers (a row-major 4x4 matrix), got " + describe(*mat.j));
+    }
+    if (mat.j->size() != 16) {
+      ctx.fail(mat.path, "expected 16 numbers (a row-major 4x4 matrix), got " +
+                             std::to_string(mat.j->size()));
+    }
+    double a[16];
+    for (size_t i = 0; i < 16; ++i) a[i] = read_number(ctx, element(mat, i));
+    // Projective matrices would bend the meaning of "position"; the last row must be
+    // [0, 0, 0, 1] (a tolerance forgives exporters' round-off).
+    if (std::fabs(a[12]) > 1e-9 || std::fabs(a[13]) > 1e-9 || std::fabs(a[14]) > 1e-9 ||
+        std::fabs(a[15] - 1.0) > 1e-9) {
+      ctx.fail(mat.path,
+               "the last row must be [0, 0, 0, 1] (only affine transforms are supported)");
+    }
+    for (int row = 0; row < 3; ++row) {
+      for (int col = 0; col < 4; ++col) m[col][row] = a[4 * row + col];  // glm: column-major
+    }
+  } else {
+    glm::dvec3 translate(0.0), rotate(0.0), scale(1.0);
+    if_present(n, "translate", [&](const Node& c) { translate = read_vec3(ctx, c); });
+    if_present(n, "rotate", [&](const Node& c) { rotate = read_vec3(ctx, c); });
+    if_present(n, "scale", [&](const Node& c) {
+      if (c.j->is_number()) {
+        scale = glm::dvec3(read_number(ctx, c));
+      } else if (c.j->is_array() && c.j->size() == 3) {
+        scale = read_vec3(ctx, c);
+      } else {
+        ctx.fail(c.path, "expected a number or an array of 3 numbers, got " + describe(*c.j));
+      }
+    });
+    glm::dmat4 t(1.0), s(1.0);
+    t[3] = glm::dvec4(translate, 1.0);
+    s[0][0] = scale.x;
+    s[1][1] = scale.y;
+    s[2][2] = scale.z;
+    m = t * rotation_xyz_degrees(rotate) * s;  // scale, then rotate, then translate
+  }
+  bool finite = true;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) finite = finite && std::isfinite(m[c][r]);
+  }
+  if (!finite || !std::isfinite(glm::determinant(glm::dmat3(m)))) {
+    ctx.fail(n.path, "the transform overflows (its values are too large to represent)");
+  }
+  if (is_singular(m)) {
+    ctx.fail(n.path, "the transform is singular (it flattens the object; check scale and matrix)");
+  }
+  return m;
+}
+
+std::string resolve_relative(const std::string& scene_path, const std::string& file) {
+  namespace fs = std::filesystem;
+  const fs::path p(file);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(scene_path).parent_path() / p).lexically_normal().string();
+}
+
+TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
+                          const std::map<std::string, uint32_t>& material_index,
+                          const std::vector<std::string>& material_names) {
+  expect_object_any_keys(ctx, n);
+  const Node shape_node = require(ctx, n, "shape");
+  enum class Shape { Mesh, Sphere, Quad, Disk, Box };
+  const Shape shape = read_enum<Shape>(ctx, shape_node,
+                                       {{"mesh", Shape::Mesh},
+                                        {"sphere", Shape::Sphere},
+                                        {"quad", Shape::Quad},
+                                        {"disk", Shape::Disk},
+                                        {"box", Shape::Box}});
+  const std::vector<std::string> common = {"shape", "material", "transform"};
+  auto keys = [&](std::initializer_list<const char*> extra) {
+    std::vector<std::string> all = common;
+    for (const char* k : extra) all.push_back(k);
+    return all;
+  };
+  const std::string shape_name = shape_node.j->get<std::string>();
+  std::string name = "objects[" + std::to_string(index) + "] (" + shape_name;
+
+  DMesh mesh;
+  // Where geometry problems are reported: the "file" key for meshes (the data came from
+  // there), the object itself for built-in shapes.
+  std::string geometry_path = n.path;
+  switch (shape) {
+    case Shape::Mesh: {
+      expect_object(ctx, n, keys({"file"}));
+      const Node file_node = require(ctx, n, "file");
+      const std::string file = read_string(ctx, file_node);
+      if (file.empty()) ctx.fail(file_node.path, "must not be empty");
+      name += " " + file;
+      geometry_path = file_node.path;
+      const std::string resolved = resolve_relative(ctx.file(), file);
+      std::string ext = std::filesystem::path(file).extension().string();
+      for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+      if (ext == ".gltf" || ext == ".glb") {
+        ctx.fail(file_node.path,
+                 "glTF meshes are not supported yet (only OBJ): \"" + resolved + "\"");
+      }
+      std::string error;
+      std::vector<std::string> obj_warnings;
+      if (!load_obj(resolved, &mesh, &error, &obj_warnings)) {
+        ctx.fail(file_node.path, "cannot load mesh \"" + resolved + "\": " + error);
+      }
+      for (const std::string& w : obj_warnings) {
+        ctx.warn(file_node.path, "mesh \"" + resolved + "\": " + w);
+      }
+      if (mesh.indices.empty()) {
+        ctx.fail(file_node.path, "mesh \"" + resolved + "\" has no triangles");
+      }
+      break;
+    }
+    case Shape::Sphere: {
+      expect_object(ctx, n, keys({"center", "radius", "segments"}));
+      glm::dvec3 center(0.0);
+      double radius = 1.0;
+      int su = 128, sv = 64;
+      if_present(n, "center", [&](const Node& c) { center = read_vec3(ctx, c); });
+      if_present(n, "radius", [&](const Node& c) {
+        radius = read_number_in(ctx, c, Range{0, kInf, true});
+      });
+      if_present(n, "segments", [&](const Node& c) {
+        if (!c.j->is_array() || c.j->size() != 2) {
+          ctx.fail(c.path, "expected [around, rings] (2 integers), got " + describe(*c.j));
+        }
+        su = read_int_in(ctx, element(c, 0), 3, 4096);
+        sv = read_int_in(ctx, element(c, 1), 2, 4096);
+      });
+      mesh = make_sphere(center, radius, su, sv);
+      break;
+    }
+    case Shape::Quad: {
+      expect_object(ctx, n, keys({"corner", "edge_u", "edge_v"}));
+      glm::dvec3 corner(0.0), eu(1, 0, 0), ev(0, 0, 1);
+      if_present(n, "corner", [&](const Node& c) { corner = read_vec3(ctx, c); });
+      if_present(n, "edge_u", [&](const Node& c) { eu = read_vec3(ctx, c); });
+      if_present(n, "edge_v", [&](const Node& c) { ev = read_vec3(ctx, c); });
+      if (!(glm::length(glm::cross(eu, ev)) > 0)) {
+        ctx.fail(has(n, "edge_v") ? join_key(n.path, "edge_v") : n.path,
+                 "edge_u and edge_v must span a non-zero area (they are zero or parallel)");
+      }
+      mesh = make_quad(corner, eu, ev);
+      break;
+    }
+    case Shape::Disk: {
+      expect_object(ctx, n, keys({"center", "normal", "radius", "segments"}));
+      glm::dvec3 center(0.0), normal(0, 1, 0);
+      double radius = 1.0;
+      int segments = 128;
+      if_present(n, "center", [&](const Node& c) { center = read_vec3(ctx, c); });
+      if_present(n, "normal", [&](const Node& c) {
+        normal = read_vec3(ctx, c);
+        if (!(glm::length(normal) > 0)) ctx.fail(c.path, "must not be the zero vector");
+      });
+      if_present(n, "radius", [&](const Node& c) {
+        radius = read_number_in(ctx, c, Range{0, kInf, true});
+      });
+      if_present(n, "segments", [&](const Node& c) { segments = read_int_in(ctx, c, 3, 65536); });
+      mesh = make_disk(center, normal, radius, segments);
+      break;
+    }
+    case Shape::Box: {
+      expect_object(ctx, n, keys({"min", "max"}));
+      glm::dvec3 lo(-0.5), hi(0.5);
+      if_present(n, "min", [&](const Node& c) { lo = read_vec3(ctx, c); });
+      if_present(n, "max", [&](const Node& c) { hi = read_vec3(ctx, c); });
+      if (hi.x < lo.x || hi.y < lo.y || hi.z < lo.z) {
+        ctx.fail(has(n, "max") ? join_key(n.path, "max") : n.path,
+                 "box max must be >= min in every component");
+      }
+      mesh = make_box(lo, hi);
+      break;
+    }
+  }
+  name += ")";
+
+  // The material is checked after the shape so that the message can name the object fully.
+  const Node mat_node = require(ctx, n, "material");
+  const std::string material = read_string(ctx, mat_node);
+  const auto found = material_index.find(material);
+  if (found == material_index.end()) {
+    std::string message = name + " uses unknown material \"" + material + "\"";
+    if (material_names.empty()) {
+      message += " (the scene defines no materials)";
+    } else {
+      const std::string suggestion = closest(material, material_names);
+      if (!suggestion.empty()) {
+        message += " (did you mean \"" + suggestion + "\"?)";
+      } else {
+        std::string list;
+        for (const std::string& m : material_names) list += (list.empty() ? "" : ", ") + m;
+        message += "; defined materials: " + list;
+      }
+    }
+    ctx.fail(mat_node.path, message);
+  }
+
+  glm::dmat4 transform(1.0);
+  if_present(n, "transform", [&](const Node& c) { transform = parse_transform(ctx, c); });
+
+  TriangleMesh out;
+  if (!finalize_mesh(mesh, transform, &out)) {
+    ctx.fail(geometry_path, name + " has a vertex coordinate or normal that is NaN or infinite");
+  }
+  out.material = found->second;
+  out.name = name;
+  return out;
+}
+
+std::string read_text_file(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw SceneError(path + ": cannot read scene file: is a directory");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) {
+    throw SceneError(path + ": cannot open scene file: " + std::strerror(errno));
+  }
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (in.bad()) throw SceneError(path + ": cannot read scene file");
+  return s.str();
+}
+
+Scene load(const std::string& path, const std::vector<std::string>& overrides) {
+  const std::string text = read_text_file(path);
+  LocatedJson doc;
+  JsonSyntaxError syntax;
+  if (!parse_located_json(text, &doc, &syntax)) {
+    const TextPos pos = LineMap(&text).at(syntax.offset);
+    throw SceneError(path + ":" + std::to_string(pos.line) + ":" + std::to_string(pos.col) + ": " +
+                     syntax.message);
+  }
+
+  LoadContext ctx(path, &text, &doc);
+  if (!doc.root.is_object()) {
+    ctx.fail("", "the scene must be a JSON object, got " + describe(doc.root));
+  }
+  apply_overrides(ctx, doc.root, overrides);
+
+  Scene scene;
+  scene.path = path;
+  const Node root{&doc.root, ""};
+  expect_object(ctx, root,
+                {"render", "camera", "environment", "lights", "textures", "materials", "objects"});
+
+  if_present(root, "render", [&](const Node& c) { parse_render(ctx, c, &scene.render); });
+  if_present(root, "camera", [&](const Node& c) { parse_camera(ctx, c, &scene.camera); });
+  if_present(root, "environment",
+             [&](const Node& c) { parse_environment(ctx, c, &scene.environment); });
+  if_present(root, "lights", [&](const Node& c) {
+    expect_array(ctx, c);
+    for (size_t i = 0; i < c.j->size(); ++i) {
+      LightDesc l;
+      parse_light(ctx, element(c, i), &l);
+      scene.lights.push_back(l);
+    }
+  });
+  if_present(root, "textures", [&](const Node& c) {
+    expect_object_any_keys(ctx, c);
+    if (!c.j->empty()) {
+      ctx.fail(join_key(c.path, c.j->begin().key()), "textures are not supported yet");
+    }
+  });
+
+  std::map<std::string, uint32_t> material_index;
+  if_present(root, "materials", [&](const Node& c) {
+    expect_object_any_keys(ctx, c);
+    for (const auto& item : c.j->items()) {
+      const Node m = child(c, item.key());
+      if (item.key().empty()) ctx.fail(m.path, "material names must not be empty");
+      material_index[item.key()] = static_cast<uint32_t>(scene.materials.size());
+      scene.material_names.push_back(item.key());
+      scene.materials.push_back(parse_material(ctx, m, item.key()));
+    }
+  });
+
+  if_present(root, "objects", [&](const Node& c) {
+    expect_array(ctx, c);
+    for (size_t i = 0; i < c.j->size(); ++i) {
+      scene.meshes.push_back(
+          parse_object(ctx, element(c, i), i, material_index, scene.material_names));
+    }
+  });
+
+  scene.warnings = ctx.take_warnings();
+  return scene;
+}
+
+}  // namespace
+}  // namespace scene_detail
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  // SceneError is the only exception the rest of the renderer has to handle; anything a
+  // library throws despite our checks becomes one too, still naming the file.
+  try {
+    return scene_detail::load(path, overrides);
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SceneError(path + ": internal error while loading the scene: " + e.what());
+  }
+}
+
+float exposure_scale(const ExposureDesc& e) {
+  if (e.mode == ExposureDesc::Mode::Stops) return static_cast<float>(std::exp2(double(e.stops)));
+  // mental ray's photographic exposure: k = (1/shutter) * iso / (f_number^2 * 100), with
+  // shutter given as 1/seconds.
+  const double f = e.f_number;
+  return static_cast<float>((1.0 / e.shutter) * e.iso / (f * f * 100.0));
+}
+
+}  // namespace aw
