@@ -39,8 +39,10 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
     ps_add_radiance(ps, thr * load_f3p(rp->env_radiance));
     return AW_Q_DONE;
   }
-  // A surface. A path that has used up its scattering events ends here.
-  if (bounce >= rp->max_depth) return AW_Q_DONE;
+  // A surface. A path that has used up its scattering events ends here. (Its last ray was
+  // still traced: light it finds completes the MIS pair of the previous vertex's light
+  // sample, which was weighted assuming this ray would be traced.)
+  if (bounce >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY)) return AW_Q_DONE;
 
   const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
   const AW_GLOBAL VertexData* v0 = &sc.verts[tri->v[0]];

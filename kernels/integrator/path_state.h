@@ -24,6 +24,7 @@ enum {
 // Path flags.
 #define AW_PATH_SPECULAR 1u    // last scattering was a delta lobe: no MIS on a light hit
 #define AW_PATH_HAS_SHADOW 2u  // the lobe stage wrote a shadow ray this bounce
+#define AW_PATH_EMITTERS_ONLY 4u  // the ray only looks for lights: a surface hit ends the path
 
 #define AW_NONE 0xffffffffu
 

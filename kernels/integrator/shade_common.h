@@ -44,7 +44,10 @@ AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, ui
 // survival is throughput / cutoff, so weak paths stop early without bias.
 AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng, LobeSample s) {
   uint bounce = PS_U(ps, bounce);
-  if (s.flags == 0u || bounce + 1u >= rp->max_depth) return AW_Q_DONE;
+  // No depth test here: the ray is traced even from the last allowed vertex, because light
+  // sampling at this vertex was MIS-weighted against it; classify_hit ends the path at the
+  // next surface instead.
+  if (s.flags == 0u) return AW_Q_DONE;
   float3 wi = s.wi;
   // A direction on the wrong side of the geometric surface (possible with interpolated
   // normals) would leak through the mesh: end the path instead.

@@ -36,12 +36,12 @@ AW_FN int shade_diffuse(PathRef ps, SceneRef sc, const RenderParams* rp) {
       if (max3(contrib) > 0.0f) shade_emit_shadow(ps, p, ng, ls, light, contrib);
     }
   }
-  // gi off: no indirect diffuse, the path ends after direct light (the "no GI" examples).
-  if (!rp->gi) return AW_Q_DONE;
-
   float2 u = rng_2d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), PS_U(ps, bounce), AW_DIM_BSDF);
   LobeSample s = lobe_diffuse_sample(albedo, wo, u);
   s.wi = frame_to_world(s.wi, t, b, n);
+  // gi off (the documentation's "no GI" examples): no indirect diffuse. The bounce is still
+  // traced, but only to find lights (the MIS partner of the light sample above).
+  if (!rp->gi) PS_U(ps, flags) |= AW_PATH_EMITTERS_ONLY;
   return shade_continue(ps, rp, p, ng, s);
 }
 
