@@ -1,0 +1,82 @@
+// The OpenCL layer's promises: a failed build prints the build log with kernels/<file>:<line>,
+// an allocation larger than the device allows is refused with both sizes, and no platform at
+// all says how to install PoCL.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include "host/cl/cl_runtime.h"
+#include "host/cl/kernel_source.h"
+
+namespace {
+
+TEST(ClRuntime, ListsAtLeastOneDevice) {
+  auto devices = aw::list_devices();
+  ASSERT_FALSE(devices.empty());
+  EXPECT_EQ(devices[0].index, 0);
+  EXPECT_GT(devices[0].max_alloc, 0u);
+  EXPECT_NE(aw::describe_devices(devices).find("[0]"), std::string::npos);
+}
+
+TEST(ClRuntime, BuildFailureCarriesTheLogWithFileAndLine) {
+  aw::ClRuntime rt(0);
+  std::string src = "#line 1 \"kernels/broken.cl\"\n__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
+  try {
+    rt.build(src, "-cl-std=CL1.2");
+    FAIL() << "the build should fail";
+  } catch (const aw::ClError& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("build log"), std::string::npos) << m;
+    EXPECT_NE(m.find("undefined_name"), std::string::npos) << m;
+    EXPECT_NE(m.find("kernels/broken.cl:2"), std::string::npos) << m;
+  }
+}
+
+TEST(ClRuntime, AssembledKernelsPointErrorsAtTheRealFile) {
+  // The embedded sources expand includes with #line markers: every line of the assembled
+  // source maps back to kernels/<file>. Check that a line of a nested header is attributed
+  // to that header.
+  std::string s = aw::assemble_kernel_source("integrator/kernels.cl", "");
+  EXPECT_NE(s.find("#line 1 \"kernels/common/compat.h\""), std::string::npos);
+  EXPECT_NE(s.find("#line 1 \"kernels/bvh/traverse.h\""), std::string::npos);
+  // Each header appears once even though several files include it.
+  size_t first = s.find("#line 1 \"kernels/common/compat.h\"");
+  EXPECT_EQ(s.find("#line 1 \"kernels/common/compat.h\"", first + 1), std::string::npos);
+  // Loading from disk gives the same text as the embedded copy.
+  EXPECT_EQ(s, aw::assemble_kernel_source("integrator/kernels.cl", std::string(ARCHWAVE_SOURCE_DIR) + "/kernels"));
+  EXPECT_THROW(aw::assemble_kernel_source("no/such.cl", ""), std::runtime_error);
+}
+
+TEST(ClRuntime, OversizedAllocationIsRefusedWithTheSizes) {
+  aw::ClRuntime rt(0);
+  size_t too_big = size_t(rt.info().max_alloc) + 4096;
+  try {
+    rt.buffer("test buffer", too_big);
+    FAIL() << "allocation should be refused";
+  } catch (const aw::ClError& e) {
+    std::string m = e.what();
+    EXPECT_NE(m.find("test buffer"), std::string::npos) << m;
+    EXPECT_NE(m.find(aw::format_bytes(too_big)), std::string::npos) << m;
+    EXPECT_NE(m.find(aw::format_bytes(rt.info().max_alloc)), std::string::npos) << m;
+  }
+}
+
+TEST(ClRuntime, NoPlatformSaysHowToInstallPoCL) {
+  // Point the ICD loader at an empty vendor directory: no platform at all.
+  std::string dir = testing::TempDir() + "/empty_icd";
+  std::system(("mkdir -p " + dir).c_str());
+  std::string out = testing::TempDir() + "/noplatform.txt";
+  std::string cmd = "OCL_ICD_VENDORS=" + dir + " OCL_ICD_FILENAMES= " + std::string(ARCHWAVE_BINARY) +
+                    " --list-devices 2>" + out;
+  int status = std::system(cmd.c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 4);
+  std::ifstream in(out);
+  std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find("pocl-opencl-icd"), std::string::npos) << err;
+}
+
+}  // namespace
