@@ -21,8 +21,9 @@ AW_FN int box_hit(float lox, float hix, float loy, float hiy, float loz, float h
   float tx0 = lox * inv.x - org_mul_inv.x, tx1 = hix * inv.x - org_mul_inv.x;
   float ty0 = loy * inv.y - org_mul_inv.y, ty1 = hiy * inv.y - org_mul_inv.y;
   float tz0 = loz * inv.z - org_mul_inv.z, tz1 = hiz * inv.z - org_mul_inv.z;
-  float tn = fmax(fmax(fmin(tx0, tx1), fmin(ty0, ty1)), fmax(fmin(tz0, tz1), t_min));
-  float tf = fmin(fmin(fmax(tx0, tx1), fmax(ty0, ty1)), fmin(fmax(tz0, tz1), t_max));
+  // No NaN can arise here (finite reciprocals, finite bounds), so plain min/max suffice.
+  float tn = max_nn(max_nn(min_nn(tx0, tx1), min_nn(ty0, ty1)), max_nn(min_nn(tz0, tz1), t_min));
+  float tf = min_nn(min_nn(max_nn(tx0, tx1), max_nn(ty0, ty1)), min_nn(max_nn(tz0, tz1), t_max));
   *t_near = tn;
   return tn <= tf * 1.00000024f;
 }

@@ -111,6 +111,11 @@ AW_FN float3 load_f3(const AW_GLOBAL float* p) { return make_float3(p[0], p[1], 
 AW_FN float3 load_f3p(const float* p) { return make_float3(p[0], p[1], p[2]); }
 AW_FN void store_f3(AW_GLOBAL float* p, float3 v) { p[0] = v.x; p[1] = v.y; p[2] = v.z; }
 
+// min/max without IEEE NaN handling: one minss/maxss instead of fmin's compare-unordered and
+// blend (which dominated the BVH slab test on PoCL). Only for operands that cannot be NaN.
+AW_FN float min_nn(float a, float b) { return a < b ? a : b; }
+AW_FN float max_nn(float a, float b) { return a > b ? a : b; }
+
 AW_FN float max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
 AW_FN float luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 AW_FN float sqr(float x) { return x * x; }
