@@ -36,6 +36,7 @@ struct RenderStats {
   uint64_t bad_samples = 0;  // NaN/Inf/negative samples discarded (counted as zero)
   uint64_t iterations = 0;
   size_t state_bytes = 0;  // path pool memory
+  uint32_t pool_size = 0;  // path states in flight (wavefront)
   bool interrupted = false;
   std::vector<std::string> warnings;
   std::string summary() const;  // multi-line human-readable stats

@@ -91,6 +91,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     cl::Buffer sf = rt.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool * 4);
     cl::Buffer su = rt.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool * 4);
     st.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool * 4;
+    st.pool_size = pool;
     cl::Buffer queues[AW_Q_COUNT];
     const char* qnames[AW_Q_COUNT] = {"ray queue", "diffuse queue", "shadow queue", "done queue", "free queue"};
     for (int i = 0; i < AW_Q_COUNT; ++i) queues[i] = rt.buffer(qnames[i], size_t(pool) * 4);
