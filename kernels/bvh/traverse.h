@@ -14,18 +14,20 @@ typedef struct {
 } TriangleHit;
 
 // Slab test against one box with a conservative far distance: Ize 2013, "Robust BVH Ray
-// Traversal", JCGT 2(2), Sec. 3: scaling t_far by 1 + 2 gamma(3) keeps the box test from
-// rejecting a box that the watertight triangle test would hit.
+// Traversal", JCGT 2(2), Sec. 3: computed as (bound - org) * inv, whose error is relative to
+// t, and t_far scaled by 1 + 2 gamma(3), keeps the box test from rejecting a box that the
+// watertight triangle test would hit. (The cheaper bound * inv - org * inv form errs relative
+// to |org * inv| and left cracks at shared vertices: tests/bvh, heightfield.)
 AW_FN int box_hit(float lox, float hix, float loy, float hiy, float loz, float hiz,
-                  float3 org_mul_inv, float3 inv, float t_min, float t_max, float* t_near) {
-  float tx0 = lox * inv.x - org_mul_inv.x, tx1 = hix * inv.x - org_mul_inv.x;
-  float ty0 = loy * inv.y - org_mul_inv.y, ty1 = hiy * inv.y - org_mul_inv.y;
-  float tz0 = loz * inv.z - org_mul_inv.z, tz1 = hiz * inv.z - org_mul_inv.z;
+                  float3 org, float3 inv, float t_min, float t_max, float* t_near) {
+  float tx0 = (lox - org.x) * inv.x, tx1 = (hix - org.x) * inv.x;
+  float ty0 = (loy - org.y) * inv.y, ty1 = (hiy - org.y) * inv.y;
+  float tz0 = (loz - org.z) * inv.z, tz1 = (hiz - org.z) * inv.z;
   // No NaN can arise here (finite reciprocals, finite bounds), so plain min/max suffice.
   float tn = max_nn(max_nn(min_nn(tx0, tx1), min_nn(ty0, ty1)), max_nn(min_nn(tz0, tz1), t_min));
   float tf = min_nn(min_nn(max_nn(tx0, tx1), max_nn(ty0, ty1)), min_nn(max_nn(tz0, tz1), t_max));
   *t_near = tn;
-  return tn <= tf * 1.00000024f;
+  return tn <= tf * 1.00000036f;
 }
 
 // Reciprocal direction with zero components replaced by a huge finite value of the same
@@ -47,7 +49,6 @@ AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
   if (num_nodes == 0) return hit;
 
   float3 inv = make_float3(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z));
-  float3 oinv = org * inv;
   RayShear shear = ray_shear_make(dir);
 
   int stack[AW_BVH_STACK_SIZE];
@@ -61,8 +62,8 @@ AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
       float4 c = nodes[node * 4 + 2];
       float4 d = nodes[node * 4 + 3];
       float t0, t1;
-      int h0 = box_hit(a.x, a.y, a.z, a.w, c.x, c.y, oinv, inv, t_min, hit.t, &t0);
-      int h1 = box_hit(b.x, b.y, b.z, b.w, c.z, c.w, oinv, inv, t_min, hit.t, &t1);
+      int h0 = box_hit(a.x, a.y, a.z, a.w, c.x, c.y, org, inv, t_min, hit.t, &t0);
+      int h1 = box_hit(b.x, b.y, b.z, b.w, c.z, c.w, org, inv, t_min, hit.t, &t1);
       int c0 = as_int(d.x), c1 = as_int(d.y);
       if (h0 && h1) {
         int near_c = t0 <= t1 ? c0 : c1;

@@ -1,0 +1,1081 @@
+// The flattened BVH and its traversal against Embree.
+//
+// Three intersectors trace the same rays:
+//   Embree   EmbreeScene::intersect / occluded (robust mode, Embree's own BVH and triangle test)
+//   C++      bvh_intersect from kernels/bvh/traverse.h compiled into this test, over FlatBvh
+//   OpenCL   the same header compiled by the device compiler (ClTracer, device 0)
+// They must agree on hit/miss, on the triangle hit (ties aside: two different triangles at
+// the same distance are both right) and on the distance (1e-5 relative; wider only where a
+// single-precision t is provably worse: grazing rays, slivers, see hit_geometry). The only
+// allowed disagreement is at a triangle edge: Embree's triangle test and ours (Woop et al.
+// 2013) are both watertight but round differently, so a ray through an edge (or vertex) may
+// be given to one triangle by one and to the neighbour, or to nothing on a silhouette, by
+// the other. Those are counted separately and must stay rare (< 0.01% of random rays).
+// Besides: rays that must hit (inside a closed room, steeply down onto a heightfield) must
+// hit (no cracks), degenerate triangles are never hit, any-hit mode agrees with
+// rtcOccluded1, and on a CPU device the C++ and OpenCL builds agree to the bit.
+//
+// Scenes are generated here (no scene loader): a soup of random and sliver triangles, a
+// closed sphere inside a closed room plus degenerate triangles, and a heightfield; besides
+// random rays, rays aimed exactly at vertices and edge midpoints exercise the edge rules.
+// Every count is printed, so a run documents how close each pair came.
+#include <gtest/gtest.h>
+
+#include <sched.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <limits>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "host/bvh/cl_tracer.h"
+#include "host/bvh/flat_bvh.h"
+#include "host/cl/cl_runtime.h"
+#include "host/cl/kernel_source.h"
+#include "kernels/bvh/traverse.h"
+
+namespace aw {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// Distances agree to 1e-5 relative (the tolerance). Both sides compute t in single
+// precision from the same vertices, a few ulps (~1e-7) apart for well-shaped triangles and
+// non-grazing rays (grazing rays and slivers: see kDistCondTol below).
+constexpr double kDistTol = 1e-5;
+// A hit within 1e-6 (relative to the magnitude of the coordinates involved) of an edge of
+// its triangle is where two watertight tests that round differently may disagree.
+constexpr double kEdgeTol = 1e-6;
+// ... and such disagreements must stay below 0.01% of the random rays.
+constexpr double kMaxEdgeFraction = 1e-4;
+// Rays aimed exactly at vertices and edges are edge cases by construction: wherever such a
+// feature lies on a silhouette (every vertex of the soup's separate triangles, the border of
+// the heightfield, the sphere's outline), either answer is right. They are held to the
+// same no-mismatch rule; only their share of edge disagreements gets a looser bound, 3%,
+// about twice the worst share measured with a watertight traversal (1.4%, Embree vs ours
+// on the heightfield; Embree itself leaves a few cracks there).
+constexpr double kMaxAimedEdgeFraction = 0.03;
+
+// ------------------------------------------------------------------------------------------
+// Scenes
+
+struct TestScene {
+  std::string name;
+  TriangleSoup soup;
+  glm::vec3 origin_lo, origin_hi;  // where random ray origins are drawn
+  std::vector<int> degenerate;     // ids of zero-area triangles (must never be hit)
+  // Closed surfaces: a ray from inside the room box, or one aimed at geometry inside it,
+  // must hit something (a miss is a crack).
+  bool closed_room = false;
+  glm::vec3 room_lo{0.0f}, room_hi{0.0f};
+  // Heightfield: a ray from above the highest point, starting over the grid, aimed at an
+  // interior vertex or edge must hit (it crosses a continuous surface).
+  bool heightfield = false;
+  glm::vec2 grid_lo{0.0f}, grid_hi{0.0f};
+  int grid_cells = 0;
+  float height_max = 0.0f;
+  float max_slope = 0.0f;  // largest |gradient| of any triangle
+};
+
+uint32_t add_vertex(TriangleSoup& s, glm::vec3 p) {
+  s.positions.push_back(p);
+  return uint32_t(s.positions.size() - 1);
+}
+
+void add_triangle(TriangleSoup& s, glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+  uint32_t i = add_vertex(s, a), j = add_vertex(s, b), k = add_vertex(s, c);
+  s.indices.emplace_back(i, j, k);
+}
+
+glm::vec3 random_unit(std::mt19937& rng) {
+  // Uniform on the sphere: z uniform in [-1, 1], azimuth uniform (Archimedes).
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  float z = 2.0f * u(rng) - 1.0f;
+  float phi = 2.0f * float(M_PI) * u(rng);
+  float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  return glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
+}
+
+glm::vec3 random_in_box(std::mt19937& rng, glm::vec3 lo, glm::vec3 hi) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  return lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng));
+}
+
+glm::vec3 any_perpendicular(glm::vec3 d) {
+  glm::vec3 a = std::fabs(d.x) < 0.6f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  return glm::normalize(glm::cross(d, a));
+}
+
+// (a) 20k triangles of very different sizes in [-1, 1]^3, overlapping and intersecting each
+// other: regular ones from 3 mm to 30 cm, long thin slivers, and needles (two vertices
+// almost together). Slivers make SAH boxes long and thin and put many hits near edges.
+TestScene random_soup_scene() {
+  TestScene sc;
+  sc.name = "random soup";
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const glm::vec3 lo(-1.0f), hi(1.0f);
+  for (int i = 0; i < 20000; ++i) {
+    glm::vec3 c = random_in_box(rng, lo, hi);
+    float kind = u(rng);
+    if (kind < 0.6f) {
+      float s = std::pow(10.0f, -2.5f + 2.0f * u(rng));
+      add_triangle(sc.soup, c + s * random_unit(rng), c + s * random_unit(rng), c + s * random_unit(rng));
+    } else if (kind < 0.85f) {
+      float len = std::pow(10.0f, -1.5f + 1.7f * u(rng));
+      float width = len * std::pow(10.0f, -5.0f + 3.0f * u(rng));
+      glm::vec3 d = random_unit(rng);
+      glm::vec3 p = any_perpendicular(d);
+      add_triangle(sc.soup, c - 0.5f * len * d, c + 0.5f * len * d, c + (u(rng) - 0.5f) * len * d + width * p);
+    } else {
+      float len = std::pow(10.0f, -1.5f + 1.5f * u(rng));
+      glm::vec3 d = random_unit(rng);
+      add_triangle(sc.soup, c, c + 1e-4f * len * random_unit(rng), c + len * d);
+    }
+  }
+  sc.origin_lo = lo - 0.2f;
+  sc.origin_hi = hi + 0.2f;
+  return sc;
+}
+
+// (b) A closed UV sphere (128 segments × 64 rings, one shared vertex per pole) inside a
+// closed box room (8 shared vertices, 12 triangles), plus degenerate triangles in the air:
+// all three vertices equal, three exactly collinear vertices, two vertices equal.
+TestScene sphere_room_scene() {
+  TestScene sc;
+  sc.name = "sphere in room";
+  TriangleSoup& s = sc.soup;
+  const glm::vec3 center(0.13f, -0.21f, 0.07f);
+  const float radius = 1.1f;
+  const int seg = 128, rings = 64;
+  uint32_t north = add_vertex(s, center + glm::vec3(0, radius, 0));
+  std::vector<uint32_t> ring_start;
+  for (int j = 1; j < rings; ++j) {
+    float theta = float(M_PI) * float(j) / float(rings);
+    ring_start.push_back(uint32_t(s.positions.size()));
+    for (int i = 0; i < seg; ++i) {
+      float phi = 2.0f * float(M_PI) * float(i) / float(seg);
+      add_vertex(s, center + radius * glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                                std::sin(theta) * std::sin(phi)));
+    }
+  }
+  uint32_t south = add_vertex(s, center - glm::vec3(0, radius, 0));
+  auto at = [&](int ring, int i) { return ring_start[size_t(ring)] + uint32_t(i % seg); };
+  for (int i = 0; i < seg; ++i) s.indices.emplace_back(north, at(0, i + 1), at(0, i));
+  for (int j = 0; j + 1 < rings - 1; ++j) {
+    for (int i = 0; i < seg; ++i) {
+      s.indices.emplace_back(at(j, i), at(j, i + 1), at(j + 1, i + 1));
+      s.indices.emplace_back(at(j, i), at(j + 1, i + 1), at(j + 1, i));
+    }
+  }
+  for (int i = 0; i < seg; ++i) s.indices.emplace_back(south, at(rings - 2, i), at(rings - 2, i + 1));
+
+  sc.room_lo = glm::vec3(-3.0f, -2.5f, -3.5f);
+  sc.room_hi = glm::vec3(3.5f, 2.5f, 3.0f);
+  uint32_t b = uint32_t(s.positions.size());
+  for (int k = 0; k < 8; ++k)
+    add_vertex(s, glm::vec3((k & 1) ? sc.room_hi.x : sc.room_lo.x, (k & 2) ? sc.room_hi.y : sc.room_lo.y,
+                            (k & 4) ? sc.room_hi.z : sc.room_lo.z));
+  // Two triangles per face; the corners of each face in cyclic order (bit patterns).
+  const int faces[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  for (const auto& f : faces) {
+    s.indices.emplace_back(b + f[0], b + f[1], b + f[2]);
+    s.indices.emplace_back(b + f[0], b + f[2], b + f[3]);
+  }
+
+  auto degenerate = [&](glm::vec3 p, glm::vec3 q, glm::vec3 r) {
+    sc.degenerate.push_back(int(s.indices.size()));
+    add_triangle(s, p, q, r);
+  };
+  degenerate(glm::vec3(2.0f, 1.5f, 2.0f), glm::vec3(2.0f, 1.5f, 2.0f), glm::vec3(2.0f, 1.5f, 2.0f));
+  // Exactly representable, exactly collinear points.
+  degenerate(glm::vec3(2.0f, 1.5f, -2.0f), glm::vec3(2.25f, 1.75f, -2.25f), glm::vec3(2.5f, 2.0f, -2.5f));
+  degenerate(glm::vec3(-2.0f, -1.0f, -2.0f), glm::vec3(-2.0f, -1.0f, -2.0f), glm::vec3(-1.5f, -0.5f, -2.5f));
+  // Collinear along an axis, lying in the plane of nothing else.
+  degenerate(glm::vec3(-2.0f, 1.0f, 2.0f), glm::vec3(-1.0f, 1.0f, 2.0f), glm::vec3(-1.5f, 1.0f, 2.0f));
+
+  sc.closed_room = true;
+  glm::vec3 margin = 0.1f * (sc.room_hi - sc.room_lo);
+  sc.origin_lo = sc.room_lo - margin;
+  sc.origin_hi = sc.room_hi + margin;
+  return sc;
+}
+
+// (c) A 200 × 200 cell heightfield over [-5, 5]^2 (shared vertices; the cell diagonal
+// alternates in a checkerboard so vertices have 4 and 8 incident triangles).
+TestScene heightfield_scene() {
+  TestScene sc;
+  sc.name = "heightfield";
+  TriangleSoup& s = sc.soup;
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<float> noise(-0.02f, 0.02f);
+  const int n = 200;
+  float hmax = -kInf;
+  for (int j = 0; j <= n; ++j) {
+    for (int i = 0; i <= n; ++i) {
+      float x = -5.0f + 10.0f * float(i) / float(n), z = -5.0f + 10.0f * float(j) / float(n);
+      float y = 0.4f * std::sin(1.3f * x) * std::cos(0.9f * z) + 0.15f * std::sin(3.1f * x + 2.0f * z) + noise(rng);
+      hmax = std::max(hmax, y);
+      add_vertex(s, glm::vec3(x, y, z));
+    }
+  }
+  auto v = [&](int i, int j) { return uint32_t(j * (n + 1) + i); };
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      if ((i + j) & 1) {
+        s.indices.emplace_back(v(i, j), v(i + 1, j), v(i + 1, j + 1));
+        s.indices.emplace_back(v(i, j), v(i + 1, j + 1), v(i, j + 1));
+      } else {
+        s.indices.emplace_back(v(i, j), v(i + 1, j), v(i, j + 1));
+        s.indices.emplace_back(v(i + 1, j), v(i + 1, j + 1), v(i, j + 1));
+      }
+    }
+  }
+  sc.heightfield = true;
+  sc.grid_lo = glm::vec2(-5.0f);
+  sc.grid_hi = glm::vec2(5.0f);
+  sc.grid_cells = n;
+  sc.height_max = hmax;
+  for (const glm::uvec3& t : s.indices) {
+    glm::vec3 nrm = glm::cross(s.positions[t.y] - s.positions[t.x], s.positions[t.z] - s.positions[t.x]);
+    sc.max_slope = std::max(sc.max_slope, std::sqrt(nrm.x * nrm.x + nrm.z * nrm.z) / std::fabs(nrm.y));
+  }
+  sc.origin_lo = glm::vec3(-6.0f, -1.5f, -6.0f);
+  sc.origin_hi = glm::vec3(6.0f, 3.0f, 6.0f);
+  return sc;
+}
+
+// ------------------------------------------------------------------------------------------
+// Rays
+
+struct RaySet {
+  std::vector<RayIn> rays;
+  std::vector<uint8_t> must_hit;  // 1 where a miss is a crack (closed or continuous surface)
+  size_t random_count = 0;        // rays [0, random_count) are random, the rest aimed
+};
+
+// `random` rays with uniform origins in the scene's origin box and uniform directions, then
+// `aimed` rays exactly at a vertex or an edge midpoint of a random triangle: the places where
+// watertightness and tie-breaking are decided. Aimed rays start at random origins; on the
+// heightfield half of them come steeply from above instead (see below).
+RaySet make_rays(const TestScene& sc, size_t random, size_t aimed, uint32_t seed) {
+  RaySet rs;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::uniform_int_distribution<size_t> pick_tri(0, sc.soup.indices.size() - 1);
+  std::uniform_int_distribution<int> pick_feature(0, 5);
+  auto inside_room = [&](glm::vec3 p) {
+    return sc.closed_room && glm::all(glm::greaterThan(p, sc.room_lo)) && glm::all(glm::lessThan(p, sc.room_hi));
+  };
+  auto over_grid = [&](glm::vec3 p, float border) {
+    return p.x > sc.grid_lo.x + border && p.x < sc.grid_hi.x - border && p.z > sc.grid_lo.y + border &&
+           p.z < sc.grid_hi.y - border;
+  };
+  for (size_t i = 0; i < random; ++i) {
+    RayIn r;
+    r.org = random_in_box(rng, sc.origin_lo, sc.origin_hi);
+    r.dir = random_unit(rng);
+    r.t_min = 0.0f;
+    r.t_max = kInf;
+    rs.rays.push_back(r);
+    // Inside the closed room every direction hits.
+    rs.must_hit.push_back(inside_room(r.org) ? 1 : 0);
+  }
+  rs.random_count = rs.rays.size();
+  while (rs.rays.size() < random + aimed) {
+    size_t id = pick_tri(rng);
+    const glm::uvec3& t = sc.soup.indices[id];
+    int f = pick_feature(rng);
+    glm::vec3 p[3] = {sc.soup.positions[t.x], sc.soup.positions[t.y], sc.soup.positions[t.z]};
+    glm::vec3 target = f < 3 ? p[f] : 0.5f * (p[f - 3] + p[(f - 2) % 3]);
+    RayIn r;
+    r.org = random_in_box(rng, sc.origin_lo, sc.origin_hi);
+    bool steep = sc.heightfield && (rs.rays.size() & 1);
+    if (steep) {
+      // From above, steeper than any slope of the surface (horizontal run < 1/(1.5 L) of the
+      // drop, L = the largest gradient): along such a ray the height above the surface
+      // strictly decreases, so a ray that starts above the surface, over the grid, and is
+      // aimed at an interior point of it must cross it there, whatever vertex or edge it
+      // passes through. A miss is a crack.
+      float drop = sc.height_max - target.y + 0.05f + 3.0f * u(rng);
+      float run = drop * u(rng) / (1.5f * sc.max_slope);
+      float phi = 2.0f * float(M_PI) * u(rng);
+      r.org = target + glm::vec3(run * std::cos(phi), drop, run * std::sin(phi));
+    }
+    glm::vec3 d = target - r.org;
+    if (glm::length(d) < 1e-3f) continue;
+    r.dir = glm::normalize(d);
+    r.t_min = 0.0f;
+    r.t_max = kInf;
+    uint8_t must = 0;
+    if (sc.closed_room) {
+      // From inside the room, or towards a point strictly inside it (crossing its closed
+      // surface on the way). Points ON the room's walls do not count: a ray from outside
+      // may graze a wall or pass through a corner of the box.
+      must = inside_room(r.org) || inside_room(target) ? 1 : 0;
+    }
+    if (steep) {
+      const float cell = (sc.grid_hi.x - sc.grid_lo.x) / float(sc.grid_cells);
+      must = over_grid(r.org, 0.0f) && over_grid(target, 0.25f * cell) ? 1 : 0;
+    }
+    rs.rays.push_back(r);
+    rs.must_hit.push_back(must);
+  }
+  return rs;
+}
+
+// ------------------------------------------------------------------------------------------
+// The three intersectors
+
+TriangleHit embree_hit(const EmbreeScene& es, const RayIn& r) {
+  EmbreeScene::Hit h = es.intersect(r.org, r.dir, r.t_min, r.t_max);
+  TriangleHit out;
+  out.t = h.t;
+  out.u = h.u;
+  out.v = h.v;
+  out.prim = h.prim;
+  return out;
+}
+
+TriangleHit cpp_hit(const FlatBvh& bvh, const RayIn& r, bool any_hit) {
+  // float4 is glm::vec4 on the host (4-byte aligned, 16 bytes): the arrays are read exactly
+  // as the device reads the uploaded buffers.
+  const float4* nodes = reinterpret_cast<const float4*>(bvh.nodes.data());
+  const float4* tris = reinterpret_cast<const float4*>(bvh.leaf_tris.data());
+  return bvh_intersect(nodes, uint(bvh.nodes.size()), tris, r.org, r.dir, r.t_min, r.t_max, any_hit ? 1 : 0);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// ------------------------------------------------------------------------------------------
+// Comparison
+
+// Where a ray crosses a triangle's plane is known only to within the rounding of the
+// coordinates involved (origin, vertices, t·dir: their largest magnitude is `scale`),
+// magnified by 1/|cos θ| for a ray at angle θ to the normal: a grazing ray crosses the plane
+// at a poorly conditioned point. Both watertight tests, Embree's and ours, round within
+// that band, so within it they may decide an edge differently.
+// The distance t computed from scaled barycentrics (ours, Woop et al. Sec. 3) or from
+// Möller–Trumbore style determinants (Embree) is further conditioned by the triangle's
+// shape: the determinant is a small difference of large products for a sliver. Against the
+// exact t (double precision, plane equation) all three intersectors measured
+// |t - t_exact| <= 3 × 2^-24 × scale × aspect / |cos θ| on the scenes below (aspect =
+// longest edge² / twice the area); without the aspect factor slivers reached 2900 × 2^-24 ×
+// scale / |cos θ|. Two intersectors may therefore differ by twice that; kDistCondTol allows
+// 16 × 2^-24 ≈ 1e-6, some 2.5 times the measured worst case.
+constexpr double kDistCondTol = 16.0 / 16777216.0;
+
+struct HitGeometry {
+  double edge_distance;  // from the hit point to the nearest edge of its triangle
+  double uncertainty;    // kEdgeTol × scale / |cos θ|: where an edge decision may go either way
+  double t_uncertainty;  // kDistCondTol × scale × aspect / |cos θ|: how far two t may differ
+};
+
+HitGeometry hit_geometry(const TriangleSoup& soup, const RayIn& r, const TriangleHit& h) {
+  const glm::uvec3& t = soup.indices[size_t(h.prim)];
+  glm::dvec3 a(soup.positions[t.x]), b(soup.positions[t.y]), c(soup.positions[t.z]);
+  glm::dvec3 o(r.org), d(r.dir);
+  glm::dvec3 n = glm::cross(b - a, c - a);
+  double area2 = glm::length(n);
+  double cos_theta = area2 > 0.0 ? std::fabs(glm::dot(n, d)) / (area2 * glm::length(d)) : 0.0;
+  glm::dvec3 p = o + double(h.t) * d;
+  double scale = std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z), std::fabs(p.x), std::fabs(p.y),
+                           std::fabs(p.z), double(h.t) * glm::length(d)});
+  double edge_len[3] = {glm::length(c - b), glm::length(c - a), glm::length(b - a)};
+  double longest = std::max({edge_len[0], edge_len[1], edge_len[2]});
+  double aspect = area2 > 0.0 ? longest * longest / area2 : std::numeric_limits<double>::infinity();
+  HitGeometry g;
+  g.uncertainty = kEdgeTol * scale / std::max(cos_theta, 1e-12);
+  g.t_uncertainty = kDistCondTol * scale * aspect / std::max(cos_theta, 1e-12);
+  // Distance to the edge opposite vertex k: barycentric_k × (twice the area) / |that edge|.
+  // A degenerate triangle, or a sliver thinner than the uncertainty, is all edge.
+  double w[3] = {1.0 - double(h.u) - double(h.v), double(h.u), double(h.v)};
+  g.edge_distance = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k)
+    g.edge_distance = std::min(g.edge_distance, edge_len[k] > 0.0 ? std::fabs(w[k]) * area2 / edge_len[k] : 0.0);
+  return g;
+}
+
+bool near_edge(const TriangleSoup& soup, const RayIn& r, const TriangleHit& h) {
+  if (h.prim < 0) return false;
+  HitGeometry g = hit_geometry(soup, r, h);
+  return g.edge_distance <= g.uncertainty;
+}
+
+// Same distance: 1e-5 relative (the tolerance), or, for grazing rays and slivers
+// where no single-precision test gets that close, within the conditioning bound above.
+bool same_distance(const TriangleSoup& soup, const RayIn& r, const TriangleHit& x, const TriangleHit& y) {
+  double dt = std::fabs(double(x.t) - double(y.t));
+  if (dt <= kDistTol * std::max(std::fabs(double(x.t)), std::fabs(double(y.t)))) return true;
+  double len = glm::length(glm::dvec3(r.dir));
+  double allow = std::max(hit_geometry(soup, r, x).t_uncertainty, hit_geometry(soup, r, y).t_uncertainty) / len;
+  return dt <= allow;
+}
+
+std::string describe_ray(const TriangleSoup& soup, const RayIn& r, const TriangleHit& a, const TriangleHit& b,
+                         const char* na, const char* nb, size_t index) {
+  char buf[1024];
+  std::snprintf(buf, sizeof(buf),
+                "ray %zu: org (%.9g, %.9g, %.9g) dir (%.9g, %.9g, %.9g) t_min %.9g t_max %.9g\n"
+                "    %s: prim %d t %.9g u %.9g v %.9g | %s: prim %d t %.9g u %.9g v %.9g\n",
+                index, r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z, r.t_min, r.t_max, na, a.prim, a.t, a.u,
+                a.v, nb, b.prim, b.t, b.u, b.v);
+  std::string s = buf;
+  for (const TriangleHit* h : {&a, &b}) {
+    if (h->prim < 0) continue;
+    const glm::uvec3& t = soup.indices[size_t(h->prim)];
+    glm::vec3 p0 = soup.positions[t.x], p1 = soup.positions[t.y], p2 = soup.positions[t.z];
+    std::snprintf(buf, sizeof(buf), "    prim %d: (%.9g, %.9g, %.9g) (%.9g, %.9g, %.9g) (%.9g, %.9g, %.9g)\n", h->prim,
+                  p0.x, p0.y, p0.z, p1.x, p1.y, p1.z, p2.x, p2.y, p2.z);
+    s += buf;
+  }
+  return s;
+}
+
+struct PairStats {
+  size_t rays = 0;
+  size_t hits_a = 0, hits_b = 0;
+  size_t identical = 0;  // bit-identical (t, u, v, prim)
+  size_t ties = 0;       // different triangles at the same distance
+  size_t grazing = 0;    // same triangle, distance only within the grazing-ray uncertainty
+  size_t edge = 0;       // disagreement at an edge (allowed, if rare)
+  size_t hit_vs_miss = 0, other_prim = 0, distance = 0;  // real disagreements
+  std::string examples;  // the first few real disagreements, in full
+  size_t hard() const { return hit_vs_miss + other_prim + distance; }
+  std::string summary() const {
+    std::ostringstream o;
+    o << rays << " rays, hits " << hits_a << " / " << hits_b << ", bit-identical " << identical << ", ties " << ties
+      << ", grazing " << grazing << ", edge cases " << edge << " ("
+      << 100.0 * double(edge) / double(std::max<size_t>(rays, 1)) << "%), mismatches: hit/miss " << hit_vs_miss
+      << ", other triangle " << other_prim << ", distance " << distance;
+    return o.str();
+  }
+};
+
+// Closest-hit agreement of two intersectors over rays [begin, end). The criteria are
+// symmetric; the names only label the messages.
+PairStats compare_closest(const TriangleSoup& soup, const std::vector<RayIn>& rays, const std::vector<TriangleHit>& a,
+                          const std::vector<TriangleHit>& b, const char* na, const char* nb, size_t begin = 0,
+                          size_t end = size_t(-1)) {
+  PairStats st;
+  end = std::min(end, rays.size());
+  st.rays = end - begin;
+  int shown = 0;
+  auto record = [&](size_t i, size_t& counter, const char* what) {
+    ++counter;
+    if (shown++ < 6) st.examples += std::string(what) + " " + describe_ray(soup, rays[i], a[i], b[i], na, nb, i);
+  };
+  for (size_t i = begin; i < end; ++i) {
+    const TriangleHit &x = a[i], &y = b[i];
+    st.hits_a += x.prim >= 0;
+    st.hits_b += y.prim >= 0;
+    if (std::memcmp(&x, &y, sizeof(x)) == 0) {
+      ++st.identical;
+      continue;
+    }
+    if (x.prim < 0 && y.prim < 0) continue;
+    if ((x.prim < 0) != (y.prim < 0)) {
+      // Legitimate only where the one hit found is at an edge (a silhouette).
+      const TriangleHit& h = x.prim >= 0 ? x : y;
+      if (near_edge(soup, rays[i], h)) ++st.edge;
+      else record(i, st.hit_vs_miss, "[hit vs miss]");
+      continue;
+    }
+    bool exact_t = std::fabs(double(x.t) - double(y.t)) <= kDistTol * std::max(double(x.t), double(y.t));
+    bool same_t = exact_t || same_distance(soup, rays[i], x, y);
+    if (x.prim == y.prim) {
+      if (!same_t) record(i, st.distance, "[distance]");
+      else if (!exact_t) ++st.grazing;
+      continue;
+    }
+    if (same_t) {
+      ++st.ties;
+      continue;
+    }
+    // Different triangles at different distances: one side did not see the nearer hit.
+    // Legitimate only when that nearer hit is at an edge.
+    const TriangleHit& nearer = x.t < y.t ? x : y;
+    if (near_edge(soup, rays[i], nearer)) ++st.edge;
+    else record(i, st.other_prim, "[other triangle]");
+  }
+  return st;
+}
+
+// ------------------------------------------------------------------------------------------
+// Shared fixtures: one Embree device and one OpenCL runtime for the whole suite.
+
+class BvhVsEmbree : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    embree_ = new EmbreeDevice();
+    cl_ = new ClRuntime(0);
+  }
+  static void TearDownTestSuite() {
+    delete cl_;
+    delete embree_;
+    cl_ = nullptr;
+    embree_ = nullptr;
+  }
+  static EmbreeDevice* embree_;
+  static ClRuntime* cl_;
+
+  void check_scene(const TestScene& sc, size_t random_rays, size_t aimed_rays, uint32_t seed);
+};
+EmbreeDevice* BvhVsEmbree::embree_ = nullptr;
+ClRuntime* BvhVsEmbree::cl_ = nullptr;
+
+void BvhVsEmbree::check_scene(const TestScene& sc, size_t random_rays, size_t aimed_rays, uint32_t seed) {
+  const TriangleSoup& soup = sc.soup;
+  auto t0 = std::chrono::steady_clock::now();
+  FlatBvh bvh = build_flat_bvh(*embree_, soup);
+  EmbreeScene es(*embree_, soup);
+  ClTracer tracer(*cl_, bvh, default_kernel_dir());
+  double t_setup = seconds_since(t0);
+  RaySet rs = make_rays(sc, random_rays, aimed_rays, seed);
+  const std::vector<RayIn>& rays = rs.rays;
+  const size_t n = rays.size();
+
+  // --- closest hit -------------------------------------------------------------------------
+  std::vector<TriangleHit> he(n), hc(n);
+  t0 = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < n; ++i) he[i] = embree_hit(es, rays[i]);
+  double t_embree = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < n; ++i) hc[i] = cpp_hit(bvh, rays[i], false);
+  double t_cpp = seconds_since(t0);
+  double t_cl_kernel = 0.0;
+  t0 = std::chrono::steady_clock::now();
+  std::vector<TriangleHit> hd = tracer.trace(rays, false, &t_cl_kernel);
+  double t_cl = seconds_since(t0);
+  ASSERT_EQ(hd.size(), n);
+
+  std::printf("[%s] %zu triangles, %zu nodes, %zu leaves, depth %d; %zu rays (%zu random, %zu aimed at "
+              "vertices/edges)\n"
+              "  setup %.2fs; closest hit: Embree %.2fs, C++ traversal %.2fs, OpenCL %.2fs (kernel %.2fs)\n",
+              sc.name.c_str(), soup.indices.size(), bvh.nodes.size(), bvh.leaf_count, bvh.max_depth, n,
+              rs.random_count, n - rs.random_count, t_setup, t_embree, t_cpp, t_cl, t_cl_kernel);
+
+  struct Pair {
+    const char* na;
+    const char* nb;
+    const std::vector<TriangleHit>* a;
+    const std::vector<TriangleHit>* b;
+  } pairs[] = {{"Embree", "C++", &he, &hc}, {"Embree", "OpenCL", &he, &hd}, {"C++", "OpenCL", &hc, &hd}};
+  for (const Pair& p : pairs) {
+    for (int aimed = 0; aimed < 2; ++aimed) {
+      const size_t begin = aimed ? rs.random_count : 0, end = aimed ? n : rs.random_count;
+      const char* kind = aimed ? "aimed " : "random";
+      PairStats st = compare_closest(soup, rays, *p.a, *p.b, p.na, p.nb, begin, end);
+      std::printf("  closest %-6s vs %-6s, %s rays: %s\n", p.na, p.nb, kind, st.summary().c_str());
+      EXPECT_EQ(st.hard(), 0u) << "[" << sc.name << "] closest hit, " << kind << " rays, " << p.na << " vs " << p.nb
+                               << ": " << st.summary() << "\nfirst mismatches:\n"
+                               << st.examples;
+      const double limit = aimed ? kMaxAimedEdgeFraction : kMaxEdgeFraction;
+      EXPECT_LT(double(st.edge), limit * double(st.rays))
+          << "[" << sc.name << "] closest hit, " << kind << " rays, " << p.na << " vs " << p.nb
+          << ": too many disagreements at edges: " << st.summary();
+    }
+  }
+
+  // --- watertightness and degenerate triangles ---------------------------------------------
+  size_t must = 0, miss_e = 0, miss_c = 0, miss_d = 0, degen_hits = 0;
+  std::string crack_examples;
+  for (size_t i = 0; i < n; ++i) {
+    for (const std::vector<TriangleHit>* h : {&he, &hc, &hd})
+      for (int id : sc.degenerate) degen_hits += (*h)[i].prim == id;
+    if (!rs.must_hit[i]) continue;
+    ++must;
+    miss_e += he[i].prim < 0;
+    miss_c += hc[i].prim < 0;
+    miss_d += hd[i].prim < 0;
+    if ((hc[i].prim < 0 || hd[i].prim < 0) && crack_examples.size() < 2000)
+      crack_examples += describe_ray(soup, rays[i], hc[i], hd[i], "C++", "OpenCL", i);
+  }
+  std::printf("  must-hit rays %zu: misses Embree %zu, C++ %zu, OpenCL %zu; hits on degenerate triangles %zu\n", must,
+              miss_e, miss_c, miss_d, degen_hits);
+  EXPECT_EQ(miss_c + miss_d, 0u) << "[" << sc.name << "] rays through a closed/continuous surface missed it (a crack):\n"
+                                 << crack_examples;
+  EXPECT_EQ(degen_hits, 0u) << "[" << sc.name << "] a zero-area triangle was hit";
+
+  // --- any hit (shadow rays) ---------------------------------------------------------------
+  // For each ray with a closest hit at t (Embree's), one shadow ray that ends short of it
+  // (t_max = 5%..95% of t: nothing in between, not occluded) and one that reaches past it
+  // (t_max = 105%..200% of t, or infinite: occluded). Rays that miss keep t_max = inf.
+  std::mt19937 rng(seed + 1);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<RayIn> shadow;
+  std::vector<size_t> source;  // index of the original ray
+  shadow.reserve(2 * n);
+  for (size_t i = 0; i < n; ++i) {
+    RayIn r = rays[i];
+    if (he[i].prim < 0) {
+      shadow.push_back(r);
+      source.push_back(i);
+      continue;
+    }
+    r.t_max = he[i].t * (0.05f + 0.9f * u(rng));
+    shadow.push_back(r);
+    source.push_back(i);
+    float x = u(rng);
+    r.t_max = x < 0.2f ? kInf : he[i].t * (1.05f + 0.95f * x);
+    shadow.push_back(r);
+    source.push_back(i);
+  }
+  const size_t ns = shadow.size();
+  std::vector<uint8_t> occ_e(ns);
+  std::vector<TriangleHit> ac(ns);
+  t0 = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < ns; ++i)
+    occ_e[i] = es.occluded(shadow[i].org, shadow[i].dir, shadow[i].t_min, shadow[i].t_max) ? 1 : 0;
+  double ta_e = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  for (size_t i = 0; i < ns; ++i) ac[i] = cpp_hit(bvh, shadow[i], true);
+  double ta_c = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  std::vector<TriangleHit> ad = tracer.trace(shadow, true);
+  double ta_d = seconds_since(t0);
+  std::printf("  any hit: %zu shadow rays, Embree %.2fs, C++ %.2fs, OpenCL %.2fs\n", ns, ta_e, ta_c, ta_d);
+
+  for (int side = 0; side < 2; ++side) {
+    const std::vector<TriangleHit>& ours = side == 0 ? ac : ad;
+    const std::vector<TriangleHit>& our_closest = side == 0 ? hc : hd;
+    const char* name = side == 0 ? "C++" : "OpenCL";
+    size_t occluded = 0, wrong = 0, bad_t = 0;
+    size_t edge[2] = {0, 0}, count[2] = {0, 0};  // [random, aimed]
+    std::string examples;
+    for (size_t i = 0; i < ns; ++i) {
+      const RayIn& r = shadow[i];
+      const TriangleHit& h = ours[i];
+      const size_t src = source[i];
+      const int aimed = src >= rs.random_count ? 1 : 0;
+      ++count[aimed];
+      bool occ = h.prim >= 0;
+      occluded += occ;
+      // Any hit, not necessarily the closest; but inside (t_min, t_max), and never nearer
+      // than the closest hit the same traversal finds (unless that was decided at an edge).
+      if (occ && !(h.t > r.t_min && h.t < r.t_max)) ++bad_t;
+      const TriangleHit& c = our_closest[src];
+      if (occ && (c.prim < 0 || h.t < c.t) && !(c.prim >= 0 && same_distance(soup, r, h, c)) &&
+          !near_edge(soup, r, h))
+        ++bad_t;
+      if (occ == bool(occ_e[i])) continue;
+      // Disagreement: legitimate only if the hit that decides it lies on an edge (ours when
+      // we report occlusion, Embree's closest hit when Embree does).
+      const TriangleHit& deciding = occ ? h : he[src];
+      if (near_edge(soup, r, deciding)) {
+        ++edge[aimed];
+      } else {
+        ++wrong;
+        if (examples.size() < 3000) {
+          examples += describe_ray(soup, r, he[src], h, "Embree closest", name, src);
+          examples += std::string("    Embree occluded: ") + (occ_e[i] ? "yes" : "no") + "\n";
+        }
+      }
+    }
+    std::printf("  any hit %-6s vs Embree: %zu occluded, edge cases %zu random + %zu aimed, mismatches %zu, "
+                "bad t %zu\n",
+                name, occluded, edge[0], edge[1], wrong, bad_t);
+    EXPECT_EQ(wrong, 0u) << "[" << sc.name << "] any hit, " << name << " vs Embree occluded():\n" << examples;
+    EXPECT_EQ(bad_t, 0u) << "[" << sc.name << "] any hit, " << name << ": hit distance outside (t_min, t_max) or "
+                         << "nearer than the closest hit";
+    EXPECT_LT(double(edge[0]), kMaxEdgeFraction * double(count[0])) << "[" << sc.name << "] any hit, " << name;
+    EXPECT_LT(double(edge[1]), kMaxAimedEdgeFraction * double(count[1])) << "[" << sc.name << "] any hit, " << name;
+  }
+}
+
+TEST_F(BvhVsEmbree, RandomSoupWithSlivers) { check_scene(random_soup_scene(), 100000, 40000, 11); }
+
+TEST_F(BvhVsEmbree, ClosedSphereInRoomWithDegenerates) { check_scene(sphere_room_scene(), 100000, 40000, 22); }
+
+TEST_F(BvhVsEmbree, HeightfieldSharedEdgesAndVertices) { check_scene(heightfield_scene(), 100000, 40000, 33); }
+
+// The C++ and OpenCL builds run the same header with the same IEEE single-precision
+// operations: with no FMA contraction on either side (CMakeLists.txt: -ffp-contract=off on
+// the host; OpenCL C contracts a*b+c unless FP_CONTRACT is OFF) and correctly rounded
+// division, which CPU devices have, they must agree to the bit, closest and any hit. The
+// kernel-vs-scalar renderer comparison relies on it (DESIGN.md, principle 3). GPU drivers
+// may divide to 2.5 ulp; there only the criteria of the tests above apply.
+TEST_F(BvhVsEmbree, CppAndOpenClBuildsAreBitIdentical) {
+  if (cl_->info().type != "CPU") GTEST_SKIP() << "device 0 is not a CPU device: " << cl_->info().name;
+  uint32_t seed = 44;
+  for (const TestScene& sc : {random_soup_scene(), sphere_room_scene(), heightfield_scene()}) {
+    FlatBvh bvh = build_flat_bvh(*embree_, sc.soup);
+    ClTracer tracer(*cl_, bvh, default_kernel_dir());
+    RaySet rs = make_rays(sc, 30000, 10000, seed++);
+    for (bool any : {false, true}) {
+      std::vector<TriangleHit> hd = tracer.trace(rs.rays, any);
+      size_t identical = 0;
+      std::string example;
+      for (size_t i = 0; i < rs.rays.size(); ++i) {
+        TriangleHit hc = cpp_hit(bvh, rs.rays[i], any);
+        bool same = std::memcmp(&hc, &hd[i], sizeof(TriangleHit)) == 0;
+        identical += same;
+        if (!same && example.empty()) example = describe_ray(sc.soup, rs.rays[i], hc, hd[i], "C++", "OpenCL", i);
+      }
+      std::printf("[%s] %s: C++ and OpenCL bit-identical on %zu of %zu rays\n", sc.name.c_str(),
+                  any ? "any hit" : "closest hit", identical, rs.rays.size());
+      EXPECT_EQ(identical, rs.rays.size())
+          << "[" << sc.name << "] " << (any ? "any" : "closest") << " hit: the C++ and OpenCL builds of bvh_intersect "
+          << "differ on a CPU device (" << cl_->info().name << "); does the device compiler contract a*b+c into fma?\n"
+          << "first difference: " << example;
+    }
+  }
+}
+
+// Tiny soups: the single-leaf root (both children are the same leaf), leaves of every size.
+TEST_F(BvhVsEmbree, EmptyAndTinySoups) {
+  std::mt19937 rng(5);
+  {
+    TriangleSoup empty;
+    FlatBvh bvh = build_flat_bvh(*embree_, empty);
+    EXPECT_TRUE(bvh.nodes.empty());
+    EXPECT_TRUE(bvh.leaf_tris.empty());
+    EmbreeScene es(*embree_, empty);
+    ClTracer tracer(*cl_, bvh, default_kernel_dir());
+    std::vector<RayIn> rays;
+    for (int i = 0; i < 100; ++i)
+      rays.push_back(RayIn{random_in_box(rng, glm::vec3(-1), glm::vec3(1)), 0.0f, random_unit(rng), kInf});
+    std::vector<TriangleHit> hd = tracer.trace(rays, false), ad = tracer.trace(rays, true);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      for (bool any : {false, true}) {
+        TriangleHit h = cpp_hit(bvh, rays[i], any);
+        EXPECT_EQ(h.prim, -1);
+        EXPECT_EQ(h.t, kInf);
+      }
+      EXPECT_EQ(hd[i].prim, -1);
+      EXPECT_EQ(ad[i].prim, -1);
+      EXPECT_EQ(embree_hit(es, rays[i]).prim, -1);
+    }
+  }
+  for (int count : {1, 2, 3, 4, 5, 8, 9, 17}) {
+    TriangleSoup soup;
+    for (int i = 0; i < count; ++i)
+      add_triangle(soup, random_in_box(rng, glm::vec3(-1), glm::vec3(1)), random_in_box(rng, glm::vec3(-1), glm::vec3(1)),
+                   random_in_box(rng, glm::vec3(-1), glm::vec3(1)));
+    FlatBvh bvh = build_flat_bvh(*embree_, soup);
+    ASSERT_FALSE(bvh.nodes.empty()) << count << " triangles";
+    EmbreeScene es(*embree_, soup);
+    ClTracer tracer(*cl_, bvh, default_kernel_dir());
+    // Half the rays aimed at the triangles (so there are hits), half random.
+    std::vector<RayIn> rays;
+    for (int i = 0; i < 4000; ++i) {
+      RayIn r{random_in_box(rng, glm::vec3(-2), glm::vec3(2)), 0.0f, random_unit(rng), kInf};
+      if (i % 2 == 0) {
+        const glm::uvec3& t = soup.indices[size_t(i / 2) % soup.indices.size()];
+        std::uniform_real_distribution<float> u(0.05f, 0.45f);
+        glm::vec3 target = soup.positions[t.x] + u(rng) * (soup.positions[t.y] - soup.positions[t.x]) +
+                           u(rng) * (soup.positions[t.z] - soup.positions[t.x]);
+        r.dir = glm::normalize(target - r.org);
+      }
+      rays.push_back(r);
+    }
+    std::vector<TriangleHit> he(rays.size()), hc(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      he[i] = embree_hit(es, rays[i]);
+      hc[i] = cpp_hit(bvh, rays[i], false);
+    }
+    std::vector<TriangleHit> hd = tracer.trace(rays, false);
+    PairStats a = compare_closest(soup, rays, he, hc, "Embree", "C++");
+    PairStats b = compare_closest(soup, rays, he, hd, "Embree", "OpenCL");
+    EXPECT_GT(a.hits_a, rays.size() / 2 - 100) << count << " triangles: the aimed rays should hit";
+    EXPECT_EQ(a.hard(), 0u) << count << " triangles: " << a.summary() << "\n" << a.examples;
+    EXPECT_EQ(b.hard(), 0u) << count << " triangles: " << b.summary() << "\n" << b.examples;
+    EXPECT_EQ(a.edge + b.edge, 0u) << count << " triangles";
+  }
+}
+
+// 1000 copies of one triangle: no split can separate them (same centroid), every hit is a
+// 1000-way tie. Exercises oversized-leaf handling in the flattener and the tie rule.
+TEST_F(BvhVsEmbree, IdenticalTrianglesAreTies) {
+  TriangleSoup soup;
+  for (int i = 0; i < 1000; ++i) add_triangle(soup, glm::vec3(-1, -1, 0), glm::vec3(1, -1, 0), glm::vec3(0, 1, 0.5f));
+  FlatBvh bvh = build_flat_bvh(*embree_, soup);
+  EmbreeScene es(*embree_, soup);
+  ClTracer tracer(*cl_, bvh, default_kernel_dir());
+  std::mt19937 rng(77);
+  std::vector<RayIn> rays;
+  for (int i = 0; i < 5000; ++i) {
+    glm::vec3 o = random_in_box(rng, glm::vec3(-2, -2, -3), glm::vec3(2, 2, 3));
+    glm::vec3 target = random_in_box(rng, glm::vec3(-0.8f, -0.8f, 0.0f), glm::vec3(0.8f, 0.8f, 0.0f));
+    target.z = 0.25f * (target.y + 1.0f);  // on the triangle's plane
+    rays.push_back(RayIn{o, 0.0f, glm::normalize(target - o), kInf});
+  }
+  std::vector<TriangleHit> he(rays.size()), hc(rays.size());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    he[i] = embree_hit(es, rays[i]);
+    hc[i] = cpp_hit(bvh, rays[i], false);
+  }
+  std::vector<TriangleHit> hd = tracer.trace(rays, false);
+  PairStats a = compare_closest(soup, rays, he, hc, "Embree", "C++");
+  PairStats b = compare_closest(soup, rays, he, hd, "Embree", "OpenCL");
+  std::printf("  identical triangles: Embree vs C++: %s\n  Embree vs OpenCL: %s\n", a.summary().c_str(),
+              b.summary().c_str());
+  EXPECT_EQ(a.hard(), 0u) << a.summary() << "\n" << a.examples;
+  EXPECT_EQ(b.hard(), 0u) << b.summary() << "\n" << b.examples;
+  EXPECT_LT(double(a.edge + b.edge), kMaxEdgeFraction * double(rays.size()) * 2.0);
+}
+
+// ------------------------------------------------------------------------------------------
+// Structure of the flattened tree
+
+// Walks the tree from the root and checks what the traversal relies on: child indices in
+// range and in preorder (each inner node reached once), leaves within leaf_tris and at most
+// AW_BVH_LEAF_MAX triangles, each leaf triangle slot used once, each child box containing
+// everything below it, depth within the traversal stack; and that leaf_tris holds every
+// triangle of the soup exactly once, with its original vertices and id.
+void check_structure(const TriangleSoup& soup, const FlatBvh& bvh, const std::string& what) {
+  SCOPED_TRACE(what);
+  const size_t n = soup.indices.size();
+  if (n == 0) {
+    EXPECT_TRUE(bvh.nodes.empty());
+    EXPECT_TRUE(bvh.leaf_tris.empty());
+    return;
+  }
+  ASSERT_FALSE(bvh.nodes.empty());
+  ASSERT_EQ(bvh.leaf_tris.size(), n);
+
+  // leaf_tris: a permutation of the soup's triangles, vertices bit-exact, w = id / 0 / 0.
+  std::vector<int> id_seen(n, 0);
+  for (const LeafTriangle& lt : bvh.leaf_tris) {
+    uint32_t id;
+    std::memcpy(&id, &lt.v0[3], 4);
+    ASSERT_LT(id, n) << "leaf triangle with an id out of range";
+    ++id_seen[id];
+    const glm::uvec3& t = soup.indices[id];
+    const float* v[3] = {lt.v0, lt.v1, lt.v2};
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3& p = soup.positions[t[k]];
+      EXPECT_EQ(std::memcmp(v[k], &p.x, 12), 0) << "triangle " << id << " vertex " << k << " differs from the soup";
+    }
+    EXPECT_EQ(lt.v1[3], 0.0f);
+    EXPECT_EQ(lt.v2[3], 0.0f);
+  }
+  size_t missing = 0, duplicated = 0;
+  for (int c : id_seen) {
+    missing += c == 0;
+    duplicated += c > 1;
+  }
+  EXPECT_EQ(missing, 0u) << "triangles not in any leaf";
+  EXPECT_EQ(duplicated, 0u) << "triangles in leaf_tris more than once";
+
+  struct Box {
+    glm::vec3 lo{kInf}, hi{-kInf};
+    void grow(const Box& b) {
+      lo = glm::min(lo, b.lo);
+      hi = glm::max(hi, b.hi);
+    }
+  };
+  auto stored_box = [&](const BvhNode& node, int c) {
+    Box b;
+    b.lo = glm::vec3(node.bounds[c * 4 + 0], node.bounds[c * 4 + 2], node.bounds[8 + c * 2 + 0]);
+    b.hi = glm::vec3(node.bounds[c * 4 + 1], node.bounds[c * 4 + 3], node.bounds[8 + c * 2 + 1]);
+    return b;
+  };
+  std::vector<int> node_seen(bvh.nodes.size(), 0);
+  std::vector<int> slot_seen(n, 0);
+  size_t leaves = 0, box_violations = 0, order_violations = 0;
+  int max_depth = 0;
+  // Returns the bounds of the content of a child reference (recursive; depth is bounded by
+  // the stack-size check).
+  std::function<Box(int, int, int)> visit = [&](int ref, int depth, int parent) -> Box {
+    Box content;
+    if (ref < 0) {
+      int packed = ~ref;
+      int first = packed >> 3, count = (packed & 7) + 1;
+      EXPECT_LE(count, AW_BVH_LEAF_MAX);
+      if (first < 0 || size_t(first) + size_t(count) > n) {
+        ADD_FAILURE() << "leaf [" << first << ", +" << count << ") outside leaf_tris";
+        return content;
+      }
+      ++leaves;
+      for (int i = first; i < first + count; ++i) {
+        ++slot_seen[size_t(i)];
+        const LeafTriangle& lt = bvh.leaf_tris[size_t(i)];
+        for (const float* v : {lt.v0, lt.v1, lt.v2}) {
+          content.lo = glm::min(content.lo, glm::vec3(v[0], v[1], v[2]));
+          content.hi = glm::max(content.hi, glm::vec3(v[0], v[1], v[2]));
+        }
+      }
+      return content;
+    }
+    if (size_t(ref) >= bvh.nodes.size()) {
+      ADD_FAILURE() << "child index " << ref << " out of range";
+      return content;
+    }
+    if (ref <= parent) ++order_violations;  // children follow their parent (preorder)
+    if (node_seen[size_t(ref)]++) {
+      ADD_FAILURE() << "inner node " << ref << " reached twice";
+      return content;
+    }
+    max_depth = std::max(max_depth, depth);
+    if (depth >= AW_BVH_STACK_SIZE) {
+      ADD_FAILURE() << "tree deeper than the traversal stack";
+      return content;
+    }
+    const BvhNode& node = bvh.nodes[size_t(ref)];
+    EXPECT_EQ(node.pad[0], 0);
+    EXPECT_EQ(node.pad[1], 0);
+    // A single-leaf tree is the one place both children may be the same reference.
+    const bool single_leaf_root = ref == 0 && node.child[0] == node.child[1];
+    for (int c = 0; c < (single_leaf_root ? 1 : 2); ++c) {
+      Box child = visit(node.child[c], depth + 1, ref);
+      Box box = stored_box(node, c);
+      if (single_leaf_root) {
+        Box other = stored_box(node, 1);
+        if (std::memcmp(&box, &other, sizeof(box)) != 0) ++box_violations;
+      }
+      if (glm::any(glm::lessThan(child.lo, box.lo)) || glm::any(glm::greaterThan(child.hi, box.hi))) ++box_violations;
+      content.grow(child);
+    }
+    return content;
+  };
+  visit(0, 0, -1);
+  size_t unreached = 0;
+  for (int c : node_seen) unreached += c == 0;
+  size_t slots_missing = 0, slots_twice = 0;
+  for (int c : slot_seen) {
+    slots_missing += c == 0;
+    slots_twice += c > 1;
+  }
+  EXPECT_EQ(unreached, 0u) << "inner nodes not reachable from the root";
+  EXPECT_EQ(order_violations, 0u) << "a child precedes its parent";
+  EXPECT_EQ(box_violations, 0u) << "child boxes that do not contain their content";
+  EXPECT_EQ(slots_missing, 0u) << "leaf_tris entries no leaf refers to";
+  EXPECT_EQ(slots_twice, 0u) << "leaf_tris entries in two leaves";
+  EXPECT_EQ(leaves, bvh.leaf_count);
+  EXPECT_EQ(max_depth, bvh.max_depth);
+  // The traversal pushes at most one node per level below the root.
+  EXPECT_LT(bvh.max_depth, AW_BVH_STACK_SIZE);
+}
+
+TEST(BvhStructure, InvariantsOnTestScenes) {
+  EmbreeDevice dev;
+  for (const TestScene& sc : {random_soup_scene(), sphere_room_scene(), heightfield_scene()}) {
+    FlatBvh bvh = build_flat_bvh(dev, sc.soup);
+    check_structure(sc.soup, bvh, sc.name);
+    std::printf("[%s] %zu nodes, %zu leaves, depth %d, build %.3fs, flatten %.3fs\n", sc.name.c_str(),
+                bvh.nodes.size(), bvh.leaf_count, bvh.max_depth, bvh.build_seconds, bvh.flatten_seconds);
+  }
+}
+
+TEST(BvhStructure, InvariantsOnSmallAndDegenerateSoups) {
+  EmbreeDevice dev;
+  std::mt19937 rng(3);
+  for (int count : {0, 1, 2, 3, 4, 5, 7, 8, 9, 16, 33}) {
+    TriangleSoup soup;
+    for (int i = 0; i < count; ++i)
+      add_triangle(soup, random_in_box(rng, glm::vec3(-1), glm::vec3(1)), random_in_box(rng, glm::vec3(-1), glm::vec3(1)),
+                   random_in_box(rng, glm::vec3(-1), glm::vec3(1)));
+    FlatBvh bvh = build_flat_bvh(dev, soup);
+    check_structure(soup, bvh, std::to_string(count) + " random triangles");
+    if (count == 1) {
+      // Single leaf: one root whose two children are that leaf (kernels/types/bvh.h).
+      ASSERT_EQ(bvh.nodes.size(), 1u);
+      EXPECT_EQ(bvh.nodes[0].child[0], bvh.nodes[0].child[1]);
+      EXPECT_EQ(bvh.nodes[0].child[0], ~0);
+    }
+  }
+  // Identical triangles (no split separates them) and all-degenerate soups.
+  TriangleSoup same, points;
+  for (int i = 0; i < 1000; ++i) add_triangle(same, glm::vec3(0, 0, 0), glm::vec3(1, 0, 0), glm::vec3(0, 1, 0));
+  for (int i = 0; i < 100; ++i) add_triangle(points, glm::vec3(float(i)), glm::vec3(float(i)), glm::vec3(float(i)));
+  check_structure(same, build_flat_bvh(dev, same), "1000 identical triangles");
+  check_structure(points, build_flat_bvh(dev, points), "100 zero-size triangles");
+}
+
+// ------------------------------------------------------------------------------------------
+// Determinism: same soup, byte-identical flat BVH.
+
+uint64_t fnv1a(const void* data, size_t bytes, uint64_t h = 1469598103934665603ull) {
+  const unsigned char* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+uint64_t bvh_hash(const FlatBvh& bvh) {
+  uint64_t h = fnv1a(bvh.nodes.data(), bvh.nodes.size() * sizeof(BvhNode));
+  return fnv1a(bvh.leaf_tris.data(), bvh.leaf_tris.size() * sizeof(LeafTriangle), h);
+}
+
+// The soups the determinism tests build (the same in the child process).
+std::vector<TestScene> determinism_scenes() { return {random_soup_scene(), heightfield_scene()}; }
+
+TEST(BvhDeterminism, TwoBuildsAreByteIdentical) {
+  EmbreeDevice dev;
+  for (const TestScene& sc : determinism_scenes()) {
+    FlatBvh a = build_flat_bvh(dev, sc.soup);
+    FlatBvh b = build_flat_bvh(dev, sc.soup);
+    ASSERT_EQ(a.nodes.size(), b.nodes.size()) << sc.name;
+    ASSERT_EQ(a.leaf_tris.size(), b.leaf_tris.size()) << sc.name;
+    EXPECT_EQ(std::memcmp(a.nodes.data(), b.nodes.data(), a.nodes.size() * sizeof(BvhNode)), 0) << sc.name;
+    EXPECT_EQ(std::memcmp(a.leaf_tris.data(), b.leaf_tris.data(), a.leaf_tris.size() * sizeof(LeafTriangle)), 0)
+        << sc.name;
+    EXPECT_EQ(a.max_depth, b.max_depth);
+    EXPECT_EQ(a.leaf_count, b.leaf_count);
+  }
+}
+
+// Run only as the child of the test below (DISABLED_ keeps it out of normal runs): restricts
+// itself to one CPU before Embree starts its thread pool, so the build is partitioned
+// differently than in the parent, and prints the hashes.
+TEST(BvhDeterminism, DISABLED_ChildPrintsHashes) {
+  if (!std::getenv("ARCHWAVE_BVH_HASH_CHILD")) GTEST_SKIP();
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) {
+    for (int c = 0; c < CPU_SETSIZE; ++c) {
+      if (CPU_ISSET(c, &set)) {
+        CPU_ZERO(&set);
+        CPU_SET(c, &set);
+        sched_setaffinity(0, sizeof(set), &set);
+        break;
+      }
+    }
+  }
+  EmbreeDevice dev;
+  for (const TestScene& sc : determinism_scenes())
+    std::printf("BVH_HASH %016" PRIx64 "\n", bvh_hash(build_flat_bvh(dev, sc.soup)));
+  std::fflush(stdout);
+}
+
+TEST(BvhDeterminism, AnotherProcessOnOneCpuBuildsTheSameBytes) {
+  std::vector<uint64_t> expected;
+  {
+    EmbreeDevice dev;
+    for (const TestScene& sc : determinism_scenes()) expected.push_back(bvh_hash(build_flat_bvh(dev, sc.soup)));
+  }
+  char exe[4096];
+  ssize_t len = readlink("/proc/self/exe", exe, sizeof(exe) - 1);
+  if (len <= 0) GTEST_SKIP() << "cannot find the test executable";
+  exe[len] = '\0';
+  std::string cmd = "ARCHWAVE_BVH_HASH_CHILD=1 '" + std::string(exe) +
+                    "' --gtest_also_run_disabled_tests --gtest_filter=BvhDeterminism.DISABLED_ChildPrintsHashes";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::vector<uint64_t> got;
+  char line[512];
+  while (std::fgets(line, sizeof(line), p)) {
+    uint64_t h;
+    if (std::sscanf(line, "BVH_HASH %" SCNx64, &h) == 1) got.push_back(h);
+  }
+  int status = pclose(p);
+  EXPECT_EQ(status, 0);
+  ASSERT_EQ(got.size(), expected.size()) << "the child process did not report its hashes";
+  for (size_t i = 0; i < got.size(); ++i)
+    EXPECT_EQ(got[i], expected[i]) << determinism_scenes()[i].name << ": flat BVH differs in another process";
+}
+
+}  // namespace
+}  // namespace aw
