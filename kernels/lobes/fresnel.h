@@ -1,0 +1,111 @@
+// Fresnel reflectance: exact unpolarised dielectric (with total internal reflection), exact
+// conductor with a scalar complex IOR n + ik, and the artist curve of the Architectural
+// material (MATERIAL.md §3). Scalars only; no lobe state.
+//
+// All three take cos_i, the cosine between the incident direction and the normal ON THE
+// INCIDENT SIDE (so >= 0; it is clamped to [0, 1]). Inside a microfacet lobe this is the
+// microfacet angle, dot(wo, wm).
+#ifndef AW_LOBES_FRESNEL_H
+#define AW_LOBES_FRESNEL_H
+
+#include "common/compat.h"
+
+#define AW_FRESNEL_DIELECTRIC 0u
+#define AW_FRESNEL_CONDUCTOR 1u
+#define AW_FRESNEL_CURVE 2u
+
+// Passed by value (OpenCL C has no references). `eta` is n_transmitted / n_incident for the
+// dielectric and the conductor's n for the conductor (its k in `k`); the curve uses
+// facing / perpendicular / curve.
+typedef struct {
+  uint mode;
+  float eta;
+  float k;
+  float facing;
+  float perpendicular;
+  float curve;
+} FresnelParams;
+
+// Exact unpolarised reflectance of a smooth dielectric interface, eta = n_t / n_i > 0.
+//
+// The Fresnel amplitude coefficients (Born & Wolf, "Principles of Optics", 7th ed., Sec.
+// 1.5.2, the Fresnel formulae), with c = cos_i and cos_t from Snell's law:
+//   r_s = (c - eta cos_t) / (c + eta cos_t),   r_p = (eta c - cos_t) / (eta c + cos_t),
+//   R = (r_s^2 + r_p^2) / 2  (unpolarised light: the mean of the two polarisations).
+// Written with g = eta cos_t = sqrt(eta^2 - 1 + c^2) (the form of Cook & Torrance 1982 and
+// Walter et al. 2007, Eq. 22): r_s = (c - g)/(c + g), r_p = (eta^2 c - g)/(eta^2 c + g)
+// (r_p multiplied through by eta). g^2 takes eta^2 - 1 as (eta - 1)(eta + 1) and never forms
+// 1 - sin^2, so there is no cancellation near eta = 1 or at grazing angles.
+// g^2 < 0 is total internal reflection (sin_t > 1): R = 1. eta == 1 is no interface: R = 0
+// exactly (also at c = 0, where the formula would be 0/0).
+AW_FN float fresnel_dielectric(float cos_i, float eta) {
+  if (eta == 1.0f) return 0.0f;
+  eta = fmin(eta, 1e6f);  // eta = inf would make r_s = inf/inf; R is within 4e-6 of 1 there anyway
+  float c = clamp(cos_i, 0.0f, 1.0f);
+  float g2 = (eta - 1.0f) * (eta + 1.0f) + c * c;
+  if (!(g2 > 0.0f)) return 1.0f;  // total internal reflection (and the critical angle itself)
+  float g = sqrt(g2);
+  float rs = (c - g) / (c + g);
+  float e2c = eta * eta * c;
+  float rp = (e2c - g) / (e2c + g);
+  return 0.5f * (rs * rs + rp * rp);
+}
+
+// Exact unpolarised reflectance of a conductor with complex IOR eta = n + ik relative to the
+// incident medium (Born & Wolf, Ch. 14, optics of metals: the dielectric Fresnel formulae
+// hold with the complex refractive index). The same g form as fresnel_dielectric with
+// complex arithmetic: g = sqrt(eta^2 - 1 + c^2) (principal root: Re g, Im g >= 0, the wave
+// decaying into the metal), eta^2 = (n^2 - k^2) + 2nk i, and
+//   R_s = |c - g|^2 / |c + g|^2,   R_p = |eta^2 c - g|^2 / |eta^2 c + g|^2,   R = (R_s + R_p)/2.
+// k = 0 is the dielectric (returned through fresnel_dielectric, so the two agree exactly).
+// n and k are clamped to [0, 1e6]: squares stay far from float overflow, and beyond that the
+// reflectance differs from 1 by less than 4n/(n^2 + k^2) < 4e-6.
+AW_FN float fresnel_conductor(float cos_i, float n, float k) {
+  n = clamp(n, 0.0f, 1e6f);
+  k = clamp(k, 0.0f, 1e6f);
+  if (k == 0.0f) return fresnel_dielectric(cos_i, n);
+  float c = clamp(cos_i, 0.0f, 1.0f);
+  // eta^2 and g^2 = eta^2 - 1 + c^2.
+  float er = (n - k) * (n + k);
+  float ei = 2.0f * n * k;
+  float xr = er - 1.0f + c * c;
+  float xi = ei;
+  // Principal complex square root of (xr, xi), xi >= 0. The root that needs no subtraction is
+  // computed first; the other one from gr * gi = xi / 2 (no cancellation when xr < 0).
+  float r = sqrt(xr * xr + xi * xi);
+  float gr, gi;
+  if (xr >= 0.0f) {
+    gr = sqrt(0.5f * (r + xr));
+    gi = gr > 0.0f ? 0.5f * xi / gr : 0.0f;
+  } else {
+    gi = sqrt(0.5f * (r - xr));
+    gr = gi > 0.0f ? 0.5f * xi / gi : 0.0f;
+  }
+  float rs_num = (c - gr) * (c - gr) + gi * gi;
+  float rs_den = (c + gr) * (c + gr) + gi * gi;
+  float ar = er * c, ai = ei * c;  // eta^2 c
+  float rp_num = (ar - gr) * (ar - gr) + (ai - gi) * (ai - gi);
+  float rp_den = (ar + gr) * (ar + gr) + (ai + gi) * (ai + gi);
+  // Both denominators are > 0 for k > 0 (g != 0 and Re, Im of g and eta^2 c are >= 0);
+  // the floor only guards the impossible case against a NaN.
+  float rs = rs_num / fmax(rs_den, 1e-30f);
+  float rp = rp_num / fmax(rp_den, 1e-30f);
+  return clamp(0.5f * (rs + rp), 0.0f, 1.0f);
+}
+
+// The Architectural material's artist curve (MATERIAL.md §3, from the mia_material
+// "BRDF curve"): R = facing + (perpendicular - facing) (1 - cos_i)^curve. Equal facing and
+// perpendicular give exactly `facing` at every angle. curve < 0 is clamped to 0 (a negative
+// exponent would put infinity at normal incidence); pow(0, 0) = 1 on both sides.
+AW_FN float fresnel_curve(float cos_i, float facing, float perpendicular, float curve) {
+  float c = clamp(cos_i, 0.0f, 1.0f);
+  return facing + (perpendicular - facing) * pow(1.0f - c, fmax(curve, 0.0f));
+}
+
+AW_FN float fresnel_eval(FresnelParams f, float cos_i) {
+  if (f.mode == AW_FRESNEL_CONDUCTOR) return fresnel_conductor(cos_i, f.eta, f.k);
+  if (f.mode == AW_FRESNEL_CURVE) return fresnel_curve(cos_i, f.facing, f.perpendicular, f.curve);
+  return fresnel_dielectric(cos_i, f.eta);
+}
+
+#endif
