@@ -1,5 +1,6 @@
 #include "host/render/scene_pack.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -70,6 +71,95 @@ LightGpu pack_light(const LightDesc& d, float* power) {
   return l;
 }
 
+uint32_t pack_brdf(Brdf b) {
+  switch (b) {
+    case Brdf::Beckmann: return 0u;
+    case Brdf::Ggx: return 1u;
+    case Brdf::AshikhminShirley: return 2u;
+    case Brdf::AshikhminShirleyLegacy: return 3u;
+  }
+  return 1u;
+}
+
+ReflectionGpu pack_reflection(const ReflectionDesc& r, float refraction_ior) {
+  ReflectionGpu g;
+  std::memset(&g, 0, sizeof(g));
+  put3(g.color, r.color);
+  g.weight = r.weight;
+  g.glossiness = r.glossiness;
+  g.brdf = pack_brdf(r.brdf);
+  // Fresnel mode: physical (dielectric or conductor) from an IOR, or the artist curve.
+  if (!r.fresnel.use_ior) g.fresnel_mode = 2u;
+  else g.fresnel_mode = r.fresnel.medium == FresnelMedium::Conductor ? 1u : 0u;
+  g.fresnel_ior = r.fresnel.lock_to_refraction_ior ? refraction_ior : r.fresnel.ior;
+  g.fresnel_k = r.fresnel.k;
+  g.facing = r.fresnel.facing;
+  g.perpendicular = r.fresnel.perpendicular;
+  g.curve = r.fresnel.curve;
+  g.samples = uint32_t(r.samples);
+  return g;
+}
+
+MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, const std::string& name,
+                          std::vector<std::string>* warnings) {
+  MaterialGpu g;
+  std::memset(&g, 0, sizeof(g));
+  put3(g.diffuse_color, d.diffuse.color * d.diffuse.weight);
+  g.diffuse_roughness = d.diffuse.roughness;
+  if (d.translucency.enable) {
+    put3(g.transl_color, d.translucency.color);
+    g.transl_weight = d.translucency.weight;
+    g.flags |= AW_MAT_TRANSLUCENCY;
+  }
+  g.refl[0] = pack_reflection(d.reflection, d.refraction.ior);
+  g.refl[1] = pack_reflection(d.reflection2, d.refraction.ior);
+  const OptimizationsDesc& o = d.optimizations;
+  if (o.reflection_cutoff.enable) g.refl[0].cutoff = g.refl[1].cutoff = o.reflection_cutoff.threshold;
+  put3(g.refr_color, d.refraction.color);
+  g.refr_weight = d.refraction.weight;
+  g.refr_glossiness = d.refraction.glossiness;
+  g.refr_ior = d.refraction.ior;
+  g.refr_samples = uint32_t(d.refraction.samples);
+  if (o.refraction_cutoff.enable) g.refr_cutoff = o.refraction_cutoff.threshold;
+  const FogDesc& fog = d.refraction.fog;
+  if (fog.enable && fog.distance > 0.0f) {
+    g.fog_distance = fog.distance;
+    put3(g.fog_end_color, fog.end_color);
+    if (fog.use_end_color) g.flags |= AW_MAT_FOG_END_COLOR;
+  }
+  put3(g.incandescent, d.incandescent.color * d.incandescent.scale);
+  g.cutout_opacity = d.cutout_opacity;
+  g.aniso_amount = d.anisotropy.amount;
+  g.aniso_rotation = d.anisotropy.rotation;
+  g.aniso_orientation = d.anisotropy.orientation == AnisoOrientation::Uv ? 1u : 0u;
+  g.highlight_vs_reflection = d.highlight_vs_reflection;
+  if (d.metal) g.flags |= AW_MAT_METAL;
+  if (d.refraction.thin_walled) g.flags |= AW_MAT_THIN_WALLED;
+  if (o.specular_highlights_only) g.flags |= AW_MAT_HIGHLIGHTS_ONLY;
+  if (o.skip_weak_internal_reflections) g.flags |= AW_MAT_SKIP_WEAK_INTERNAL;
+  g.refl_depth = uint32_t(o.trace_depth_override ? o.reflection_depth : rs.reflection_depth);
+  g.refr_depth = uint32_t(o.trace_depth_override ? o.refraction_depth : rs.refraction_depth);
+
+  // What the kernels do not render yet is said, never silently dropped.
+  auto note = [&](const std::string& what) {
+    if (warnings) warnings->push_back("material '" + name + "': " + what);
+  };
+  if (d.ao.enable) note("ao is not rendered yet (ambient occlusion comes with the lights/AO issue)");
+  if (!d.bump.input.empty()) note("bump is not rendered yet (textures come later)");
+  // Per-lobe samples split rays at the first hit only when samples > spp (MATERIAL.md §6:
+  // max(1, round(samples / spp)) rays); otherwise splitting changes nothing.
+  if (rs.lobe_splitting) {
+    int most = 0;  // of the lobes that are there at all
+    if (d.reflection.weight > 0.0f) most = std::max(most, d.reflection.samples);
+    if (d.reflection2.weight > 0.0f) most = std::max(most, d.reflection2.samples);
+    if (d.refraction.weight > 0.0f) most = std::max(most, d.refraction.samples);
+    if (most >= 2 * rs.spp)
+      note("per-lobe samples (" + std::to_string(most) + " > spp " + std::to_string(rs.spp) +
+           ") are not split yet: each first hit traces one ray per lobe; raise spp instead");
+  }
+  return g;
+}
+
 }  // namespace
 
 PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
@@ -106,29 +196,8 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   }
 
   for (size_t i = 0; i < scene.materials.size(); ++i) {
-    const MaterialDesc& d = scene.materials[i];
-    MaterialGpu g;
-    std::memset(&g, 0, sizeof(g));
-    put3(g.diffuse_color, d.diffuse.color * d.diffuse.weight);
-    g.diffuse_roughness = d.diffuse.roughness;
-    ps.materials.push_back(g);
-    // The foundation renders the diffuse lobe only; say so instead of silently dropping
-    // a lobe the scene asks for.
     const std::string& name = i < scene.material_names.size() ? scene.material_names[i] : std::to_string(i);
-    auto note = [&](const char* what) {
-      if (warnings)
-        warnings->push_back("material '" + name + "': " + what +
-                            " is not rendered yet (this build renders the Lambert diffuse lobe only)");
-    };
-    if (d.reflection.weight > 0.0f && glm::length(d.reflection.color) > 0.0f) note("reflection");
-    if (d.reflection2.weight > 0.0f && glm::length(d.reflection2.color) > 0.0f) note("reflection2");
-    if (d.refraction.weight > 0.0f) note("refraction");
-    if (d.translucency.enable) note("translucency");
-    if (d.metal) note("metal");
-    if (d.diffuse.roughness > 0.0f) note("diffuse.roughness (Oren-Nayar)");
-    if (d.ao.enable) note("ao");
-    if (d.cutout_opacity < 1.0f) note("cutout_opacity");
-    if (glm::length(d.incandescent.color) > 0.0f) note("incandescent");
+    ps.materials.push_back(pack_material(scene.materials[i], scene.render, name, warnings));
   }
 
   // Lights, with selection probabilities proportional to emitted power.

@@ -92,9 +92,8 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     cl::Buffer su = rt.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool * 4);
     st.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool * 4;
     st.pool_size = pool;
-    cl::Buffer queues[AW_Q_COUNT];
-    const char* qnames[AW_Q_COUNT] = {"ray queue", "diffuse queue", "shadow queue", "done queue", "free queue"};
-    for (int i = 0; i < AW_Q_COUNT; ++i) queues[i] = rt.buffer(qnames[i], size_t(pool) * 4);
+    // All queues in one buffer: queue i at [i * pool, (i + 1) * pool).
+    cl::Buffer queues = rt.buffer("queues", size_t(AW_Q_COUNT) * pool * 4);
     cl::Buffer counters = rt.buffer("queue counters", AW_Q_COUNT * 4);
     std::vector<uint32_t> zero_stats(AW_STAT_COUNT, 0);
     cl::Buffer stats = upload(rt, "stats counters", zero_stats, CL_MEM_READ_WRITE);
@@ -114,34 +113,49 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     std::vector<uint32_t> identity(pool);
     std::iota(identity.begin(), identity.end(), 0u);
 
-    Stage regen{"regenerate", cl::Kernel(program, "regenerate")};
-    Stage isect{"intersect_closest", cl::Kernel(program, "intersect_closest")};
-    Stage classify{"classify_hit", cl::Kernel(program, "classify_hit_stage")};
-    Stage diffuse{"shade_diffuse", cl::Kernel(program, "shade_diffuse_stage")};
-    Stage shadow{"intersect_shadow", cl::Kernel(program, "intersect_shadow")};
-    Stage accum{"accumulate", cl::Kernel(program, "accumulate")};
-    Stage filmacc{"film_accumulate", cl::Kernel(program, "film_accumulate")};
-
-    // Static arguments (index 0, the RenderParams, is set per launch).
-    regen.kernel.setArg(1, sf); regen.kernel.setArg(2, su); regen.kernel.setArg(3, queues[AW_Q_FREE]);
-    regen.kernel.setArg(6, queues[AW_Q_RAY]); regen.kernel.setArg(7, counters);
-    isect.kernel.setArg(1, sf); isect.kernel.setArg(2, su); isect.kernel.setArg(3, queues[AW_Q_RAY]);
+    // Kernels and their fixed arguments (argument 0, the RenderParams, and the item count are
+    // set per launch). `count_arg` is the index of the count argument.
+    auto make = [&](const char* name, const char* kernel) { return Stage{name, cl::Kernel(program, kernel)}; };
+    Stage regen = make("regenerate", "regenerate");
+    regen.kernel.setArg(1, sf); regen.kernel.setArg(2, su); regen.kernel.setArg(3, queues);
+    regen.kernel.setArg(4, counters);
+    Stage isect = make("intersect_closest", "intersect_closest");
+    isect.kernel.setArg(1, sf); isect.kernel.setArg(2, su); isect.kernel.setArg(3, queues);
     isect.kernel.setArg(5, nodes); isect.kernel.setArg(6, tris); isect.kernel.setArg(7, lights);
-    classify.kernel.setArg(1, sf); classify.kernel.setArg(2, su); classify.kernel.setArg(3, queues[AW_Q_RAY]);
-    classify.kernel.setArg(5, tri_info); classify.kernel.setArg(6, verts); classify.kernel.setArg(7, materials);
-    classify.kernel.setArg(8, lights); classify.kernel.setArg(9, queues[AW_Q_DIFFUSE]);
-    classify.kernel.setArg(10, queues[AW_Q_DONE]); classify.kernel.setArg(11, counters);
-    diffuse.kernel.setArg(1, sf); diffuse.kernel.setArg(2, su); diffuse.kernel.setArg(3, queues[AW_Q_DIFFUSE]);
-    diffuse.kernel.setArg(5, tri_info); diffuse.kernel.setArg(6, verts); diffuse.kernel.setArg(7, materials);
-    diffuse.kernel.setArg(8, lights); diffuse.kernel.setArg(9, queues[AW_Q_RAY]);
-    diffuse.kernel.setArg(10, queues[AW_Q_SHADOW]); diffuse.kernel.setArg(11, queues[AW_Q_DONE]);
-    diffuse.kernel.setArg(12, counters);
-    shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues[AW_Q_SHADOW]);
+    auto shading_args = [&](Stage& s) {
+      s.kernel.setArg(1, sf); s.kernel.setArg(2, su); s.kernel.setArg(3, queues); s.kernel.setArg(4, counters);
+      s.kernel.setArg(6, tri_info); s.kernel.setArg(7, verts); s.kernel.setArg(8, materials);
+      s.kernel.setArg(9, lights);
+    };
+    Stage classify = make("classify_hit", "classify_hit_stage");
+    shading_args(classify);
+    Stage pass = make("pass_through", "pass_through");
+    pass.kernel.setArg(1, queues); pass.kernel.setArg(2, counters);
+    const char* lobe_kernels[AW_LID_COUNT] = {"shade_diffuse", "shade_translucency", "shade_reflection",
+                                              "shade_reflection2", "shade_refraction"};
+    std::vector<Stage> shade;
+    for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
+      shade.push_back(make(lobe_kernels[l], lobe_kernels[l]));
+      shading_args(shade.back());
+    }
+    Stage shadow = make("intersect_shadow", "intersect_shadow");
+    shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues);
     shadow.kernel.setArg(5, nodes); shadow.kernel.setArg(6, tris); shadow.kernel.setArg(7, lights);
-    accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues[AW_Q_DONE]);
-    accum.kernel.setArg(5, samples); accum.kernel.setArg(6, queues[AW_Q_FREE]); accum.kernel.setArg(7, counters);
-    accum.kernel.setArg(8, stats);
+    Stage accum = make("accumulate", "accumulate");
+    accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues);
+    accum.kernel.setArg(4, counters); accum.kernel.setArg(6, samples); accum.kernel.setArg(7, stats);
+    Stage filmacc = make("film_accumulate", "film_accumulate");
     filmacc.kernel.setArg(1, samples); filmacc.kernel.setArg(2, film); filmacc.kernel.setArg(3, film_count);
+
+    std::vector<Stage*> all = {&regen, &isect, &classify, &pass};
+    for (auto& s : shade) all.push_back(&s);
+    for (Stage* s : {&shadow, &accum, &filmacc}) all.push_back(s);
+    auto count_arg = [&](const Stage* s) {
+      if (s == &pass) return 3;
+      if (s == &isect || s == &shadow) return 4;
+      if (s == &filmacc) return -1;
+      return 5;
+    };
 
     // PoCL compiles the work-group function of a kernel at its first launch with a given
     // local size, not at clBuildProgram: launch every stage once on zero items now, so that
@@ -149,25 +163,28 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     {
       auto t0 = Clock::now();
       rp.job_count = 0;
-      for (Stage* s : {&regen, &isect, &classify, &diffuse, &shadow, &accum, &filmacc}) {
+      for (Stage* s : all) {
         s->kernel.setArg(0, sizeof(RenderParams), &rp);
-        if (s != &filmacc) s->kernel.setArg(4, 0u);
-        if (s == &regen) s->kernel.setArg(5, 0u);
+        if (count_arg(s) >= 0) s->kernel.setArg(count_arg(s), 0u);
+        if (s == &regen) s->kernel.setArg(6, 0u);
         q.enqueueNDRangeKernel(s->kernel, cl::NullRange, cl::NDRange(kWorkGroup), cl::NDRange(kWorkGroup));
       }
       q.finish();
       st.compile_seconds += since(t0);
     }
 
-    uint32_t cnt[AW_Q_COUNT] = {0, 0, 0, 0, 0};
+    uint32_t cnt[AW_Q_COUNT] = {};
     auto push_counters = [&] { q.enqueueWriteBuffer(counters, CL_TRUE, 0, sizeof cnt, cnt); };
     auto pull_counters = [&] { q.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof cnt, cnt); };
-    // Runs one stage over `n` items and waits, so its time is its own.
+    // Runs one stage over `n` items and waits, so its time is its own. Stages that append
+    // to queues get the host's counters first and return the new ones.
     auto run = [&](Stage& s, size_t n, bool counts) {
+      if (n == 0 && &s != &filmacc) return;
       auto t0 = Clock::now();
       if (counts) push_counters();
       s.kernel.setArg(0, sizeof(RenderParams), &rp);
-      if (n) q.enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(pad_to_group(n)), cl::NDRange(kWorkGroup));
+      if (count_arg(&s) >= 0) s.kernel.setArg(count_arg(&s), uint32_t(n));
+      q.enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(pad_to_group(n)), cl::NDRange(kWorkGroup));
       if (counts) pull_counters();
       else q.finish();
       s.seconds += since(t0);
@@ -181,7 +198,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
       rp.batch_pixel = uint32_t(jobs_done % npix);
       rp.batch_sample = uint32_t(jobs_done / npix);
       rp.job_count = batch;
-      q.enqueueWriteBuffer(queues[AW_Q_FREE], CL_TRUE, 0, size_t(pool) * 4, identity.data());
+      q.enqueueWriteBuffer(queues, CL_TRUE, size_t(AW_Q_FREE) * pool * 4, size_t(pool) * 4, identity.data());
       std::fill(cnt, cnt + AW_Q_COUNT, 0u);
       cnt[AW_Q_FREE] = pool;
       uint32_t next_job = 0, issue_limit = batch;
@@ -191,11 +208,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         if (opts.cancel && opts.cancel->load()) issue_limit = next_job;
         uint32_t take = std::min(cnt[AW_Q_FREE], issue_limit - next_job);
         if (take) {
-          regen.kernel.setArg(4, take);
-          regen.kernel.setArg(5, next_job);
+          regen.kernel.setArg(6, next_job);
           run(regen, take, true);
           next_job += take;
         }
+        cnt[AW_Q_FREE] = 0;  // leftover free slots only remain when no jobs are left
         uint32_t n_ray = cnt[AW_Q_RAY];
         if (n_ray == 0) {
           if (next_job >= issue_limit) break;
@@ -204,27 +221,23 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         }
         ++st.iterations;
         st.closest_rays += n_ray;
-        isect.kernel.setArg(4, n_ray);
         run(isect, n_ray, false);
-        cnt[AW_Q_DIFFUSE] = 0;
-        cnt[AW_Q_DONE] = 0;
-        classify.kernel.setArg(4, n_ray);
         run(classify, n_ray, true);
-        uint32_t n_diffuse = cnt[AW_Q_DIFFUSE];
-        cnt[AW_Q_RAY] = 0;
-        cnt[AW_Q_SHADOW] = 0;
-        diffuse.kernel.setArg(4, n_diffuse);
-        run(diffuse, n_diffuse, true);
+        cnt[AW_Q_RAY] = 0;  // consumed; shading and pass-through refill it
+        run(pass, cnt[AW_Q_PASS], true);
+        cnt[AW_Q_PASS] = 0;
+        for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
+          uint32_t n = cnt[AW_Q_LOBE + l];
+          run(shade[l], n, true);
+          cnt[AW_Q_LOBE + l] = 0;
+        }
         uint32_t n_shadow = cnt[AW_Q_SHADOW];
         st.shadow_rays += n_shadow;
-        shadow.kernel.setArg(4, n_shadow);
         run(shadow, n_shadow, false);
-        uint32_t n_done = cnt[AW_Q_DONE];
-        cnt[AW_Q_FREE] = 0;
-        accum.kernel.setArg(4, n_done);
-        run(accum, n_done, true);
+        cnt[AW_Q_SHADOW] = 0;
+        run(accum, cnt[AW_Q_DONE], true);
         cnt[AW_Q_DONE] = 0;
-        progress.update(jobs_done + next_job - (cnt[AW_Q_RAY]));
+        progress.update(jobs_done + next_job - cnt[AW_Q_RAY]);
       }
       rp.job_count = next_job;
       run(filmacc, npix, false);
@@ -245,8 +258,8 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     std::vector<uint32_t> stat_vals(AW_STAT_COUNT);
     q.enqueueReadBuffer(stats, CL_TRUE, 0, stat_vals.size() * 4, stat_vals.data());
     st.bad_samples = stat_vals[AW_STAT_BAD_SAMPLES];
-    for (Stage* s : {&regen, &isect, &classify, &diffuse, &shadow, &accum, &filmacc})
-      st.stage_seconds.emplace_back(s->name, s->seconds);
+    for (Stage* s : all)
+      if (s->seconds > 0.0) st.stage_seconds.emplace_back(s->name, s->seconds);
   } catch (const cl::Error& e) {
     throw ClError(std::string("OpenCL error while rendering on ") + rt.info().name + ": " + e.what() + " (" +
                   cl_error_name(e.err()) + ")");

@@ -16,7 +16,7 @@
 #include "kernels/integrator/accumulate.h"
 #include "kernels/integrator/classify_hit.h"
 #include "kernels/integrator/generate_camera_ray.h"
-#include "kernels/integrator/shade_diffuse.h"
+#include "kernels/integrator/shade_surface.h"
 #include "kernels/integrator/shade_shadow.h"
 
 namespace aw {
@@ -90,7 +90,8 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
             else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? uint32_t(h.prim) : AW_NONE, AW_NONE);
             int next = classify_hit(ps, sc, &rp);
             if (next == AW_Q_DONE) break;
-            next = shade_diffuse(ps, sc, &rp);
+            if (next == AW_Q_PASS) continue;  // cutout: the ray goes on through the surface
+            next = shade_surface(ps, sc, &rp, uint32_t(next - AW_Q_LOBE));
             if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) {
               ++n_shadow;
               float3 so = ps_shadow_origin(ps), sd = ps_shadow_dir(ps);

@@ -9,16 +9,47 @@
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
 #include "integrator/scene_ref.h"
+#include "common/ray.h"
 #include "lights/lights.h"
+#include "lobes/fog.h"
+#include "material/architectural.h"
 
 AW_FN float3 vertex_position(const AW_GLOBAL VertexData* v) { return make_float3(v->p[0], v->p[1], v->p[2]); }
 AW_FN float3 vertex_normal(const AW_GLOBAL VertexData* v) { return make_float3(v->n[0], v->n[1], v->n[2]); }
 
+// Tangent from the UV parametrisation (dP/du of the triangle), made orthogonal to n; falls
+// back to an arbitrary frame where the UVs are degenerate. Used for anisotropy.
+AW_FN float3 triangle_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
+                              const AW_GLOBAL VertexData* v2, float3 p0, float3 p1, float3 p2, float3 n) {
+  float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
+  float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
+  float det = du1 * dv2 - du2 * dv1;
+  float3 t;
+  if (fabs(det) > 1e-12f) {
+    // Solve [dp1 dp2] = [dpdu dpdv] [[du1 du2] [dv1 dv2]] for dpdu (pbrt-v3 Sec. 3.6.2).
+    t = ((p1 - p0) * dv2 - (p2 - p0) * dv1) / det;
+    t = t - n * dot(n, t);
+    float l2 = dot(t, t);
+    if (l2 > 1e-20f && isfinite(l2)) return t / sqrt(l2);
+  }
+  float3 b;
+  make_frame(n, &t, &b);
+  return t;
+}
+
 AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   float3 dir = ps_ray_dir(ps);
-  float3 thr = ps_throughput(ps);
   uint bounce = PS_U(ps, bounce);
   uint light = PS_U(ps, hit_light);
+
+  // Fog: the segment just traced ran inside a foggy object (Beer-Lambert, MATERIAL.md §3).
+  if (PS_U(ps, medium) != AW_NONE) {
+    const AW_GLOBAL MaterialGpu* fm = &sc.materials[PS_U(ps, medium)];
+    float3 tr = fog_transmittance(load_f3(fm->fog_end_color), fm->fog_distance,
+                                  (fm->flags & AW_MAT_FOG_END_COLOR) != 0u, PS_F(ps, hit_t));
+    ps_set_throughput(ps, ps_throughput(ps) * tr);
+  }
+  float3 thr = ps_throughput(ps);
 
   if (light != AW_NONE) {
     // Emission seen by a BSDF-sampled ray: MIS against light sampling, which could have
@@ -31,20 +62,17 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
       float pdf_light = l->select_pdf * light_pdf(l, ps_ray_origin(ps), dir, PS_F(ps, hit_t));
       w = mis_power(PS_F(ps, bsdf_pdf), pdf_light);
     }
-    ps_add_radiance(ps, thr * le * w);
+    ps_add_radiance(ps, thr * le * (w * PS_F(ps, emit_scale)));
     return AW_Q_DONE;
   }
   if (PS_U(ps, hit_prim) == AW_NONE) {
     // Constant environment: no light sampling for it yet, so BSDF sampling takes it all.
-    ps_add_radiance(ps, thr * load_f3p(rp->env_radiance));
+    ps_add_radiance(ps, thr * load_f3p(rp->env_radiance) * PS_F(ps, emit_scale));
     return AW_Q_DONE;
   }
-  // A surface. A path that has used up its scattering events ends here. (Its last ray was
-  // still traced: light it finds completes the MIS pair of the previous vertex's light
-  // sample, which was weighted assuming this ray would be traced.)
-  if (bounce >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY)) return AW_Q_DONE;
 
   const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
+  const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
   const AW_GLOBAL VertexData* v0 = &sc.verts[tri->v[0]];
   const AW_GLOBAL VertexData* v1 = &sc.verts[tri->v[1]];
   const AW_GLOBAL VertexData* v2 = &sc.verts[tri->v[2]];
@@ -58,27 +86,70 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   // Degenerate triangles are never hit by the watertight test, but a nearly degenerate one
   // can be: fall back to facing the ray.
   ng = ng_len2 > 0.0f ? ng / sqrt(ng_len2) : -dir;
-  if (dot(ng, dir) > 0.0f) ng = -ng;  // face the side the ray came from
-  float3 ns = ng;
+  float3 nshade = ng;
+  int has_n = 0;
   if (v0->n[3] != 0.0f) {
     float3 n = b0 * vertex_normal(v0) + b1 * vertex_normal(v1) + b2 * vertex_normal(v2);
     float n_len2 = dot(n, n);
     if (n_len2 > 0.0f && isfinite(n_len2)) {
-      n = n / sqrt(n_len2);
-      ns = dot(n, ng) < 0.0f ? -n : n;  // interpolated normals follow the facing of ng
+      nshade = n / sqrt(n_len2);
+      has_n = 1;
     }
   }
+  // The outside of the surface: where the shading normals point (robust to winding), or the
+  // winding's normal for meshes without normals.
+  if (has_n && dot(nshade, ng) < 0.0f) ng = -ng;
+  int front = dot(ng, dir) < 0.0f;
+  if (!front) {
+    ng = -ng;  // from here on both normals face the side the ray came from
+    nshade = -nshade;
+  }
+  // Interpolated normals can face away from the viewer near silhouettes even though the
+  // triangle faces it; every lobe would then reject wo. Use the true surface there.
+  if (dot(nshade, ng) < 0.0f || dot(nshade, dir) >= 0.0f) nshade = ng;
+
+  // Cutout: below 0.5 opacity the surface is not there; the ray goes on unchanged
+  // (MATERIAL.md §1). Shadow rays do not see cutouts yet (they are opaque to light).
+  if (m->cutout_opacity < 0.5f) {
+    ps_set_ray(ps, offset_ray_origin(p, -ng), dir);
+    return AW_Q_PASS;
+  }
+
+  // Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
+  // so no MIS: found by BSDF sampling only.)
+  float3 inc = load_f3(m->incandescent);
+  if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * PS_F(ps, emit_scale));
+
+  // A path that has used up its scattering events ends here. (Its last ray was still
+  // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
+  if (bounce >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY)) return AW_Q_DONE;
+
   PS_F(ps, sp_px) = p.x; PS_F(ps, sp_py) = p.y; PS_F(ps, sp_pz) = p.z;
-  PS_F(ps, sp_nx) = ns.x; PS_F(ps, sp_ny) = ns.y; PS_F(ps, sp_nz) = ns.z;
+  PS_F(ps, sp_nx) = nshade.x; PS_F(ps, sp_ny) = nshade.y; PS_F(ps, sp_nz) = nshade.z;
   PS_F(ps, sp_gx) = ng.x; PS_F(ps, sp_gy) = ng.y; PS_F(ps, sp_gz) = ng.z;
   PS_U(ps, material) = tri->material;
+  if (front) PS_U(ps, flags) |= AW_PATH_FRONT;
+  else PS_U(ps, flags) &= ~AW_PATH_FRONT;
+  if (m->aniso_amount != 0.0f) {
+    float3 t = triangle_tangent(v0, v1, v2, p0, p1, p2, nshade);
+    PS_F(ps, sp_tx) = t.x; PS_F(ps, sp_ty) = t.y; PS_F(ps, sp_tz) = t.z;
+  }
 
-  // Lobe choice. The foundation's material has one lobe; the material issue picks among the
-  // lobes by their weights here (AW_DIM_LOBE) and records the probability in lobe_pdf.
-  const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
-  if (max3(load_f3(m->diffuse_color)) <= 0.0f) return AW_Q_DONE;
-  PS_F(ps, lobe_pdf) = 1.0f;
-  return AW_Q_DIFFUSE;
+  // Lobe choice (MATERIAL.md §2): in proportion to each lobe's share of the energy.
+  float cos_o = clamp(-dot(dir, nshade), 0.0f, 1.0f);
+  LobeWeights lw = material_lobe_weights(m, cos_o, front);
+  // Refraction past its depth returns black (MATERIAL.md §5).
+  if ((PS_U(ps, depths) >> 16) >= m->refr_depth) lw.prob[AW_LID_REFRACTION] = 0.0f;
+  float total = 0.0f;
+  for (uint i = 0; i < AW_LID_COUNT; ++i) total += lw.prob[i];
+  if (!(total > 0.0f)) return AW_Q_DONE;
+  for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] /= total;
+  uint lid = material_pick_lobe(&lw, rng_1d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE));
+  if (lid >= AW_LID_COUNT) return AW_Q_DONE;
+  float3 w = lw.scale[lid] / lw.prob[lid];
+  PS_F(ps, lobe_wr) = w.x; PS_F(ps, lobe_wg) = w.y; PS_F(ps, lobe_wb) = w.z;
+  PS_U(ps, lobe) = lid;
+  return AW_Q_LOBE + (int)lid;
 }
 
 #endif

@@ -2,9 +2,11 @@
 // shared stage function (kernels/integrator/*.h, the same code the host scalar path runs)
 // -> aggregated queue appends. The scheduling rule is in integrator/queues.h.
 //
-// Launch contract (host/render/wavefront.cpp): an explicit local size AW_WG and a global size
-// padded up to a multiple of it; `count` is the real number of items. Every work-item of a
-// group reaches the appends (they contain barriers), so the bounds check only masks work.
+// Queues live in one buffer: queue q occupies queues[q * pool .. q * pool + pool).
+// Launch contract (host/render/wavefront.cpp): an explicit local size AW_WG (>= AW_Q_COUNT)
+// and a global size padded up to a multiple of it; `count` is the real number of items.
+// Every work-item of a group reaches the appends (they contain barriers), so the bounds
+// check only masks work.
 #ifdef cl_khr_fp64
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
@@ -15,33 +17,35 @@
 #include "integrator/generate_camera_ray.h"
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
-#include "integrator/shade_diffuse.h"
 #include "integrator/shade_shadow.h"
+#include "integrator/shade_surface.h"
 
 #ifndef AW_WG
-#define AW_WG 64
+#define AW_WG 256
 #endif
 
-// Queue append aggregated per work-group: a local counter gives each item its offset, then
-// one global atomic per group reserves the range (~6x faster than a global atomic per item
-// on PoCL, DESIGN.md). Must be reached by every work-item of the group.
-static inline void wg_append(__global uint* counters, uint q, __global uint* queue, uint slot, int want,
+// Queue append aggregated per work-group: local counters give each item its offset in its
+// queue, then one global atomic per non-empty queue reserves the group's range (~6x faster
+// than a global atomic per item on PoCL, DESIGN.md). `q` is the item's queue, or AW_Q_COUNT
+// for none. Must be reached by every work-item of the group.
+static inline void wg_append(__global uint* counters, __global uint* queues, uint pool, uint q, uint slot,
                              __local uint* l_n, __local uint* l_base) {
-  if (get_local_id(0) == 0) *l_n = 0u;
+  uint lid = get_local_id(0);
+  if (lid < AW_Q_COUNT) l_n[lid] = 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
-  uint off = want ? atomic_inc(l_n) : 0u;
+  uint off = q < AW_Q_COUNT ? atomic_inc(&l_n[q]) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (get_local_id(0) == 0) *l_base = (*l_n > 0u) ? atomic_add(&counters[q], *l_n) : 0u;
+  if (lid < AW_Q_COUNT) l_base[lid] = l_n[lid] > 0u ? atomic_add(&counters[lid], l_n[lid]) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (want) queue[*l_base + off] = slot;
-  barrier(CLK_LOCAL_MEM_FENCE);  // l_n/l_base are reused by the next append
+  if (q < AW_Q_COUNT) queues[q * pool + l_base[q] + off] = slot;
+  barrier(CLK_LOCAL_MEM_FENCE);  // l_n / l_base are reused by the next append
 }
 
 #define AW_PATH_REF(slot_index) \
-  PathRef ps;             \
-  ps.sf = sf;             \
-  ps.su = su;             \
-  ps.pool = rp.pool_size; \
+  PathRef ps;                   \
+  ps.sf = sf;                   \
+  ps.su = su;                   \
+  ps.pool = rp.pool_size;       \
   ps.slot = (slot_index)
 
 #define AW_SCENE_REF          \
@@ -51,27 +55,31 @@ static inline void wg_append(__global uint* counters, uint q, __global uint* que
   sc.materials = materials;   \
   sc.lights = lights
 
+#define AW_QUEUE(q) (queues + (q) * rp.pool_size)
+
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void regenerate(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* free_q,
-                uint count, uint job_start, __global uint* ray_q, __global uint* counters) {
-  __local uint l_n, l_base;
+void regenerate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
+                __global uint* counters, uint count, uint job_start) {
+  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
-  int active = i < count;
-  uint slot = active ? free_q[i] : 0u;
-  if (active) {
+  uint q = AW_Q_COUNT;
+  uint slot = 0u;
+  if (i < count) {
+    slot = AW_QUEUE(AW_Q_FREE)[i];
     AW_PATH_REF(slot);
     generate_camera_ray(ps, &rp, job_start + i);
+    q = AW_Q_RAY;
   }
-  wg_append(counters, AW_Q_RAY, ray_q, slot, active, &l_n, &l_base);
+  wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);
 }
 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void intersect_closest(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* ray_q,
+void intersect_closest(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
                        uint count, __global const float4* nodes, __global const float4* tris,
                        __global const LightGpu* lights) {
   uint i = get_global_id(0);
   if (i >= count) return;
-  AW_PATH_REF(ray_q[i]);
+  AW_PATH_REF(AW_QUEUE(AW_Q_RAY)[i]);
   float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
   TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, 0.0f, FLT_MAX, 0);
   float t = h.t;
@@ -81,53 +89,68 @@ void intersect_closest(const RenderParams rp, __global float* sf, __global uint*
 }
 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void classify_hit_stage(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* ray_q,
-                        uint count, __global const TriangleInfo* tri_info, __global const VertexData* verts,
-                        __global const MaterialGpu* materials, __global const LightGpu* lights,
-                        __global uint* diffuse_q, __global uint* done_q, __global uint* counters) {
-  __local uint l_n, l_base;
+void classify_hit_stage(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
+                        __global uint* counters, uint count, __global const TriangleInfo* tri_info,
+                        __global const VertexData* verts, __global const MaterialGpu* materials,
+                        __global const LightGpu* lights) {
+  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
-  int active = i < count;
-  uint slot = active ? ray_q[i] : 0u;
-  int next = AW_Q_DONE;
-  if (active) {
+  uint q = AW_Q_COUNT;
+  uint slot = 0u;
+  if (i < count) {
+    slot = AW_QUEUE(AW_Q_RAY)[i];
     AW_PATH_REF(slot);
     AW_SCENE_REF;
-    next = classify_hit(ps, sc, &rp);
+    q = (uint)classify_hit(ps, sc, &rp);
   }
-  wg_append(counters, AW_Q_DIFFUSE, diffuse_q, slot, active && next == AW_Q_DIFFUSE, &l_n, &l_base);
-  wg_append(counters, AW_Q_DONE, done_q, slot, active && next == AW_Q_DONE, &l_n, &l_base);
+  wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);
 }
 
+// Cutout pass-through: classify_hit consumed the RAY queue, so these wait in PASS until the
+// RAY queue can take new rays.
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void shade_diffuse_stage(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* diffuse_q,
-                         uint count, __global const TriangleInfo* tri_info, __global const VertexData* verts,
-                         __global const MaterialGpu* materials, __global const LightGpu* lights,
-                         __global uint* ray_q, __global uint* shadow_q, __global uint* done_q,
-                         __global uint* counters) {
-  __local uint l_n, l_base;
+void pass_through(const RenderParams rp, __global uint* queues, __global uint* counters, uint count) {
+  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
-  int active = i < count;
-  uint slot = active ? diffuse_q[i] : 0u;
-  int next = AW_Q_DONE, shadow = 0;
-  if (active) {
-    AW_PATH_REF(slot);
-    AW_SCENE_REF;
-    next = shade_diffuse(ps, sc, &rp);
-    shadow = (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;
-  }
-  wg_append(counters, AW_Q_SHADOW, shadow_q, slot, active && shadow, &l_n, &l_base);
-  wg_append(counters, AW_Q_RAY, ray_q, slot, active && next == AW_Q_RAY, &l_n, &l_base);
-  wg_append(counters, AW_Q_DONE, done_q, slot, active && next == AW_Q_DONE, &l_n, &l_base);
+  uint slot = i < count ? AW_QUEUE(AW_Q_PASS)[i] : 0u;
+  wg_append(counters, queues, rp.pool_size, i < count ? AW_Q_RAY : AW_Q_COUNT, slot, l_n, l_base);
 }
 
+// One shading kernel per lobe queue (kernels/integrator/shade_surface.h).
+#define AW_SHADE_KERNEL(name, lid)                                                                       \
+  __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name(                                 \
+      const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,               \
+      __global uint* counters, uint count, __global const TriangleInfo* tri_info,                       \
+      __global const VertexData* verts, __global const MaterialGpu* materials,                          \
+      __global const LightGpu* lights) {                                                                \
+    __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];                                                    \
+    uint i = get_global_id(0);                                                                           \
+    uint q = AW_Q_COUNT, qs = AW_Q_COUNT;                                                                \
+    uint slot = 0u;                                                                                      \
+    if (i < count) {                                                                                     \
+      slot = AW_QUEUE(AW_Q_LOBE + (lid))[i];                                                             \
+      AW_PATH_REF(slot);                                                                                 \
+      AW_SCENE_REF;                                                                                      \
+      q = (uint)shade_surface(ps, sc, &rp, (lid));                                                       \
+      if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) qs = AW_Q_SHADOW;                                         \
+    }                                                                                                    \
+    wg_append(counters, queues, rp.pool_size, qs, slot, l_n, l_base);                                    \
+    wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);                                     \
+  }
+
+AW_SHADE_KERNEL(shade_diffuse, AW_LID_DIFFUSE)
+AW_SHADE_KERNEL(shade_translucency, AW_LID_TRANSLUCENCY)
+AW_SHADE_KERNEL(shade_reflection, AW_LID_REFLECTION)
+AW_SHADE_KERNEL(shade_reflection2, AW_LID_REFLECTION2)
+AW_SHADE_KERNEL(shade_refraction, AW_LID_REFRACTION)
+
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* shadow_q,
+void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
                       uint count, __global const float4* nodes, __global const float4* tris,
                       __global const LightGpu* lights) {
   uint i = get_global_id(0);
   if (i >= count) return;
-  AW_PATH_REF(shadow_q[i]);
+  AW_PATH_REF(AW_QUEUE(AW_Q_SHADOW)[i]);
   float3 o = ps_shadow_origin(ps), d = ps_shadow_dir(ps);
   float tmax = PS_F(ps, sh_tmax);
   int occluded = bvh_intersect(nodes, rp.num_nodes, tris, o, d, 0.0f, tmax, 1).prim >= 0;
@@ -139,14 +162,13 @@ void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* 
 }
 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* done_q,
-                uint count, __global float* samples, __global uint* free_q, __global uint* counters,
-                __global uint* stats) {
-  __local uint l_n, l_base;
+void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
+                __global uint* counters, uint count, __global float* samples, __global uint* stats) {
+  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
-  int active = i < count;
-  uint slot = active ? done_q[i] : 0u;
-  if (active) {
+  uint slot = 0u;
+  if (i < count) {
+    slot = AW_QUEUE(AW_Q_DONE)[i];
     AW_PATH_REF(slot);
     int bad;
     float3 l = path_result(ps, &rp, &bad);
@@ -156,7 +178,7 @@ void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __
     samples[job * 3u + 1u] = l.y;
     samples[job * 3u + 2u] = l.z;
   }
-  wg_append(counters, AW_Q_FREE, free_q, slot, active, &l_n, &l_base);
+  wg_append(counters, queues, rp.pool_size, i < count ? AW_Q_FREE : AW_Q_COUNT, slot, l_n, l_base);
 }
 
 // Adds a finished batch to the film, one work-item per pixel, samples in increasing sample

@@ -25,6 +25,7 @@ enum {
 #define AW_PATH_SPECULAR 1u    // last scattering was a delta lobe: no MIS on a light hit
 #define AW_PATH_HAS_SHADOW 2u  // the lobe stage wrote a shadow ray this bounce
 #define AW_PATH_EMITTERS_ONLY 4u  // the ray only looks for lights: a surface hit ends the path
+#define AW_PATH_FRONT 8u          // the current hit is on the outside (front face) of its surface
 
 #define AW_NONE 0xffffffffu
 
@@ -51,6 +52,8 @@ AW_FN float3 ps_radiance(PathRef ps) { return make_float3(PS_F(ps, rad_r), PS_F(
 AW_FN void ps_add_radiance(PathRef ps, float3 l) { PS_F(ps, rad_r) += l.x; PS_F(ps, rad_g) += l.y; PS_F(ps, rad_b) += l.z; }
 AW_FN float3 ps_sp_position(PathRef ps) { return make_float3(PS_F(ps, sp_px), PS_F(ps, sp_py), PS_F(ps, sp_pz)); }
 AW_FN float3 ps_sp_normal(PathRef ps) { return make_float3(PS_F(ps, sp_nx), PS_F(ps, sp_ny), PS_F(ps, sp_nz)); }
+AW_FN float3 ps_sp_tangent(PathRef ps) { return make_float3(PS_F(ps, sp_tx), PS_F(ps, sp_ty), PS_F(ps, sp_tz)); }
+AW_FN float3 ps_lobe_weight(PathRef ps) { return make_float3(PS_F(ps, lobe_wr), PS_F(ps, lobe_wg), PS_F(ps, lobe_wb)); }
 AW_FN float3 ps_sp_geo_normal(PathRef ps) { return make_float3(PS_F(ps, sp_gx), PS_F(ps, sp_gy), PS_F(ps, sp_gz)); }
 
 // Writes the closest hit of the extension ray (both intersectors end here).

@@ -38,11 +38,13 @@ AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, ui
   PS_U(ps, flags) |= AW_PATH_HAS_SHADOW;
 }
 
-// Continues the path along a sampled lobe direction, or ends it. Russian roulette is
-// unbiased (Arvo & Kirk 1990, "Particle Transport and Image Synthesis", Sec. 3.3): from
-// rr_depth on, survival probability min(0.95, max throughput); below render.cutoff the
-// survival is throughput / cutoff, so weak paths stop early without bias.
-AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng, LobeSample s) {
+// Continues the path along a sampled lobe direction (s.weight already includes the lobe's
+// energy share over its selection probability), or ends it. Russian roulette is unbiased
+// (Arvo & Kirk 1990, "Particle Transport and Image Synthesis", Sec. 3.3): from rr_depth on,
+// survival probability min(0.95, max throughput); below `cutoff` (render.cutoff, or a
+// lobe's cut-off threshold) the survival is throughput / cutoff, so weak paths stop early
+// without bias (MATERIAL.md §5: the realisation of the cut-off thresholds).
+AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng, LobeSample s, float cutoff) {
   uint bounce = PS_U(ps, bounce);
   // No depth test here: the ray is traced even from the last allowed vertex, because light
   // sampling at this vertex was MIS-weighted against it; classify_hit ends the path at the
@@ -55,19 +57,19 @@ AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng
   float cg = dot(wi, ng);
   if (transmit ? cg >= 0.0f : cg <= 0.0f) return AW_Q_DONE;
 
-  float3 thr = ps_throughput(ps) * s.weight / PS_F(ps, lobe_pdf);
+  float3 thr = ps_throughput(ps) * s.weight;
   float m = max3(thr);
   if (!(m > 0.0f) || !isfinite(m)) return AW_Q_DONE;
   float q = 1.0f;
   if (bounce + 1u >= rp->rr_depth) q = fmin(0.95f, m);
-  if (m < rp->cutoff) q = fmin(q, m / rp->cutoff);
+  if (m < cutoff) q = fmin(q, m / cutoff);
   if (q < 1.0f) {
     float u = rng_1d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_RR);
     if (u >= q) return AW_Q_DONE;
     thr = thr / q;
   }
   ps_set_throughput(ps, thr);
-  PS_F(ps, bsdf_pdf) = s.pdf;  // the lobe's own density: see the MIS note in shade_diffuse
+  PS_F(ps, bsdf_pdf) = s.pdf;  // the lobe's own density: see the MIS note in shade_surface
   if (s.flags & AW_LOBE_SPECULAR) PS_U(ps, flags) |= AW_PATH_SPECULAR;
   else PS_U(ps, flags) &= ~AW_PATH_SPECULAR;
   ps_set_ray(ps, offset_ray_origin(p, transmit ? -ng : ng), wi);

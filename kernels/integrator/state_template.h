@@ -20,8 +20,12 @@ AW_STATE_F(hit_t) AW_STATE_F(hit_u) AW_STATE_F(hit_v)
 AW_STATE_F(sp_px) AW_STATE_F(sp_py) AW_STATE_F(sp_pz)
 AW_STATE_F(sp_nx) AW_STATE_F(sp_ny) AW_STATE_F(sp_nz)
 AW_STATE_F(sp_gx) AW_STATE_F(sp_gy) AW_STATE_F(sp_gz)
-/* Probability with which classify_hit chose the current lobe. */
-AW_STATE_F(lobe_pdf)
+/* Tangent (for anisotropy), orthogonal to the shading normal. */
+AW_STATE_F(sp_tx) AW_STATE_F(sp_ty) AW_STATE_F(sp_tz)
+/* The chosen lobe's factor: its energy share divided by the probability of choosing it. */
+AW_STATE_F(lobe_wr) AW_STATE_F(lobe_wg) AW_STATE_F(lobe_wb)
+/* Factor on light reached through the last scattering (highlight_vs_reflection). */
+AW_STATE_F(emit_scale)
 /* Shadow ray and what it adds if unoccluded. */
 AW_STATE_F(sh_ox) AW_STATE_F(sh_oy) AW_STATE_F(sh_oz)
 AW_STATE_F(sh_dx) AW_STATE_F(sh_dy) AW_STATE_F(sh_dz)
@@ -37,3 +41,6 @@ AW_STATE_U(hit_prim)  /* original triangle id, or ~0u */
 AW_STATE_U(hit_light) /* light index, or ~0u */
 AW_STATE_U(material)
 AW_STATE_U(sh_light)  /* light the shadow ray aims at (it must not occlude itself), or ~0u */
+AW_STATE_U(lobe)      /* AW_LID_* chosen by classify_hit */
+AW_STATE_U(depths)    /* reflection bounces (low 16 bits), refraction bounces (high 16 bits) */
+AW_STATE_U(medium)    /* material whose fog the path is inside, or ~0u */

@@ -3,14 +3,7 @@
 #ifndef AW_TYPES_SCENE_H
 #define AW_TYPES_SCENE_H
 
-// What the kernels need of a material (packed from host/scene/material_desc.h). The
-// foundation renders the diffuse lobe only; the material issue grows this struct.
-typedef struct {
-  float diffuse_color[3];  // colour × weight, pre-multiplied by the host
-  float diffuse_roughness;
-  uint flags;
-  float pad[3];
-} MaterialGpu;
+#include "types/material.h"
 
 #define AW_LIGHT_POINT 0
 #define AW_LIGHT_QUAD 1

@@ -1,0 +1,158 @@
+// From: LOBE + lid / To: RAY or DONE (and SHADOW when a light sample can contribute).
+// One shading kernel per lobe queue; they share this function, each calling it with its own
+// constant lobe id so the compiler keeps only that lobe's code (the switch folds away).
+// Next-event estimation with MIS against the lobe's own sampling, then the lobe's bounce.
+#ifndef AW_INTEGRATOR_SHADE_SURFACE_H
+#define AW_INTEGRATOR_SHADE_SURFACE_H
+
+#include "integrator/shade_common.h"
+#include "lobes/diffuse.h"
+#include "lobes/reflection.h"
+#include "lobes/refraction.h"
+#include "lobes/thin_walled.h"
+#include "lobes/translucency.h"
+#include "material/architectural.h"
+
+// Everything a lobe needs at this shading point, built once per stage invocation.
+typedef struct {
+  uint lid;
+  float3 color;     // diffuse albedo / translucency colour
+  float roughness;  // diffuse
+  ReflectionParams refl;
+  RefractionParams refr;
+  int thin;         // thin-walled refraction: straight through, blurred when frosted
+  float glossiness; // of the thin wall
+} LobeSetup;
+
+AW_FN LobeSetup lobe_setup(const AW_GLOBAL MaterialGpu* m, uint lid, int front) {
+  LobeSetup l;
+  l.lid = lid;
+  l.color = make_float3(0.0f, 0.0f, 0.0f);
+  l.roughness = 0.0f;
+  l.thin = 0;
+  l.glossiness = 1.0f;
+  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  if (lid == AW_LID_DIFFUSE) {
+    l.color = load_f3(m->diffuse_color);
+    l.roughness = m->diffuse_roughness;
+  } else if (lid == AW_LID_TRANSLUCENCY) {
+    l.color = load_f3(m->transl_color);
+  } else if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) {
+    const AW_GLOBAL ReflectionGpu* r = &m->refl[lid == AW_LID_REFLECTION ? 0 : 1];
+    float3 tint = load_f3(r->color);
+    if (lid == AW_LID_REFLECTION && (m->flags & AW_MAT_METAL)) tint = tint * load_f3(m->diffuse_color);
+    l.refl = reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, front, thin));
+  } else {
+    // Refraction: a rough dielectric interface (GGX), or a thin wall (no bending).
+    l.refr = refraction_params(m->refr_glossiness, AW_MF_GGX, material_eta(m->refr_ior, front, 0));
+    l.thin = thin;
+    l.glossiness = m->refr_glossiness;
+  }
+  return l;
+}
+
+AW_FN float3 lobe_eval(const LobeSetup* l, float3 wo, float3 wi) {
+  if (l->lid == AW_LID_DIFFUSE) return lobe_diffuse_eval(l->color, l->roughness, wo, wi);
+  if (l->lid == AW_LID_TRANSLUCENCY) return lobe_translucency_eval(l->color, wo, wi);
+  if (l->lid == AW_LID_REFRACTION)
+    return l->thin ? lobe_thin_transmission_eval(l->glossiness, wo, wi) : lobe_refraction_eval(l->refr, wo, wi);
+  return lobe_reflection_eval(l->refl, wo, wi);
+}
+
+AW_FN float lobe_pdf(const LobeSetup* l, float3 wo, float3 wi) {
+  if (l->lid == AW_LID_DIFFUSE) return lobe_diffuse_pdf(l->roughness, wo, wi);
+  if (l->lid == AW_LID_TRANSLUCENCY) return lobe_translucency_pdf(wo, wi);
+  if (l->lid == AW_LID_REFRACTION)
+    return l->thin ? lobe_thin_transmission_pdf(l->glossiness, wo, wi) : lobe_refraction_pdf(l->refr, wo, wi);
+  return lobe_reflection_pdf(l->refl, wo, wi);
+}
+
+AW_FN LobeSample lobe_sample(const LobeSetup* l, float3 wo, float2 u) {
+  if (l->lid == AW_LID_DIFFUSE) return lobe_diffuse_sample(l->color, l->roughness, wo, u);
+  if (l->lid == AW_LID_TRANSLUCENCY) return lobe_translucency_sample(l->color, wo, u);
+  if (l->lid == AW_LID_REFRACTION)
+    return l->thin ? lobe_thin_transmission_sample(l->glossiness, wo, u) : lobe_refraction_sample(l->refr, wo, u);
+  return lobe_reflection_sample(l->refl, wo, u);
+}
+
+// Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, MATERIAL.md §3).
+AW_FN float3 rotate_tangent(float3 t, float3 n, float rotation) {
+  if (rotation == 0.0f) return t;
+  float a = 2.0f * M_PI_F * rotation;
+  return cos(a) * t + sin(a) * cross(n, t);
+}
+
+AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint lid) {
+  float3 p = ps_sp_position(ps);
+  float3 n = ps_sp_normal(ps);
+  float3 ng = ps_sp_geo_normal(ps);
+  const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
+  int front = (PS_U(ps, flags) & AW_PATH_FRONT) != 0u;
+  float3 t, b;
+  if (m->aniso_amount != 0.0f && (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2)) {
+    t = rotate_tangent(ps_sp_tangent(ps), n, m->aniso_rotation);
+    b = cross(n, t);
+  } else {
+    make_frame(n, &t, &b);
+  }
+  float3 wo = frame_to_local(-ps_ray_dir(ps), t, b, n);
+  LobeSetup l = lobe_setup(m, lid, front);
+  float3 lw = ps_lobe_weight(ps);
+  int is_refl = lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2;
+  // highlight_vs_reflection: scales light reached through a reflection lobe, in both
+  // estimators (light sampling here, BSDF sampling via emit_scale), so MIS stays consistent.
+  float hvr = is_refl ? m->highlight_vs_reflection : 1.0f;
+  PS_U(ps, flags) &= ~AW_PATH_HAS_SHADOW;
+
+  // Next-event estimation (not for delta lobes: their pdf is 0 for any light direction).
+  if (rp->num_lights > 0u) {
+    uint light;
+    float pdf_light;
+    LightSample ls = shade_pick_light(ps, sc, rp, p, &light, &pdf_light);
+    float cg = dot(ls.wi, ng);
+    int transmit_lobe = lid == AW_LID_TRANSLUCENCY || lid == AW_LID_REFRACTION;
+    if (pdf_light > 0.0f && (transmit_lobe ? cg < 0.0f : cg > 0.0f)) {
+      float3 wi = frame_to_local(ls.wi, t, b, n);
+      float3 f = lobe_eval(&l, wo, wi);
+      if (max3(f) > 0.0f) {
+        // One-sample estimate of this lobe's share: lw = scale / probability (see
+        // classify_hit). Within the lobe, light sampling is MIS-weighted against the lobe's
+        // own sampling; classify_hit weighs emission found by the lobe's ray the same way.
+        float w = ls.is_delta ? 1.0f : mis_power(pdf_light, lobe_pdf(&l, wo, wi));
+        float3 contrib = ps_throughput(ps) * lw * f * ls.le * (w * hvr / pdf_light);
+        if (max3(contrib) > 0.0f) shade_emit_shadow(ps, p, transmit_lobe ? -ng : ng, ls, light, contrib);
+      }
+    }
+  }
+
+  float2 u = rng_2d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), PS_U(ps, bounce), AW_DIM_BSDF);
+  LobeSample s = lobe_sample(&l, wo, u);
+  s.weight = s.weight * lw;
+  s.wi = frame_to_world(s.wi, t, b, n);
+  PS_F(ps, emit_scale) = hvr;
+
+  float cutoff = rp->cutoff;
+  uint depths = PS_U(ps, depths);
+  if (is_refl) {
+    cutoff = fmax(cutoff, m->refl[lid == AW_LID_REFLECTION ? 0 : 1].cutoff);
+    // Past the reflection depth, or with specular_highlights_only, a reflection returns only
+    // highlights: its ray looks for lights and stops at the first surface (MATERIAL.md §5).
+    if ((depths & 0xffffu) >= m->refl_depth || (m->flags & AW_MAT_HIGHLIGHTS_ONLY))
+      PS_U(ps, flags) |= AW_PATH_EMITTERS_ONLY;
+    else
+      PS_U(ps, depths) = depths + 1u;
+  } else if (lid == AW_LID_REFRACTION) {
+    cutoff = fmax(cutoff, m->refr_cutoff);
+    PS_U(ps, depths) = depths + 0x10000u;
+    // Crossing a foggy object's surface: the path is inside its fog until it leaves.
+    if (!(m->flags & AW_MAT_THIN_WALLED) && m->fog_distance > 0.0f)
+      PS_U(ps, medium) = front ? PS_U(ps, material) : AW_NONE;
+  } else if (!rp->gi) {
+    // gi off (the documentation's "no GI" examples): no indirect diffuse. The bounce is still
+    // traced, but only to find lights (the MIS partner of the light sample above).
+    PS_U(ps, flags) |= AW_PATH_EMITTERS_ONLY;
+  }
+  return shade_continue(ps, rp, p, ng, s, cutoff);
+}
+
+#endif

@@ -1,0 +1,65 @@
+// The Architectural material as the kernels read it, packed by host/render/scene_pack.cpp
+// from host/scene/material_desc.h (MATERIAL.md). Plain 4-byte fields only (tests/types).
+#ifndef AW_TYPES_MATERIAL_H
+#define AW_TYPES_MATERIAL_H
+
+// Lobe ids: one queue and one shading kernel each (kernels/integrator/queues.h).
+#define AW_LID_DIFFUSE 0u
+#define AW_LID_TRANSLUCENCY 1u
+#define AW_LID_REFLECTION 2u
+#define AW_LID_REFLECTION2 3u
+#define AW_LID_REFRACTION 4u
+#define AW_LID_COUNT 5u
+
+// Material flags.
+#define AW_MAT_METAL 1u
+#define AW_MAT_THIN_WALLED 2u
+#define AW_MAT_FOG_END_COLOR 4u
+#define AW_MAT_HIGHLIGHTS_ONLY 8u
+#define AW_MAT_SKIP_WEAK_INTERNAL 16u
+#define AW_MAT_TRANSLUCENCY 32u
+
+// One reflection lobe (reflection and reflection2 share the layout). 64 bytes.
+typedef struct {
+  float color[3];
+  float weight;
+  float glossiness;
+  uint brdf;          // AW_BRDF_* (kernels/lobes/reflection.h)
+  uint fresnel_mode;  // AW_FRESNEL_* (kernels/lobes/fresnel.h)
+  float fresnel_ior;  // resolved: refraction.ior when locked
+  float fresnel_k;
+  float facing;
+  float perpendicular;
+  float curve;
+  uint samples;
+  float cutoff;  // throughput threshold below which this lobe's rays stop; 0 = off
+  float pad[2];
+} ReflectionGpu;
+
+typedef struct {
+  float diffuse_color[3];  // colour × weight
+  float diffuse_roughness;
+  float transl_color[3];
+  float transl_weight;  // 0 unless translucency is enabled
+  ReflectionGpu refl[2];
+  float refr_color[3];
+  float refr_weight;
+  float refr_glossiness;
+  float refr_ior;
+  uint refr_samples;
+  float refr_cutoff;
+  float fog_end_color[3];
+  float fog_distance;  // 0 = no fog
+  float incandescent[3];  // colour × scale
+  float cutout_opacity;
+  float aniso_amount;
+  float aniso_rotation;  // 0..1 = 0..360 degrees
+  uint aniso_orientation;  // 0 = tangent, 1 = uv
+  float highlight_vs_reflection;
+  uint flags;  // AW_MAT_*
+  uint refl_depth;  // per-material trace depths (the global ones unless overridden)
+  uint refr_depth;
+  uint pad;
+} MaterialGpu;
+
+#endif
