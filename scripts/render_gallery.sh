@@ -9,7 +9,7 @@ mkdir -p docs/gallery
 rows=()
 for scene in scenes/docs/*.json; do
   name=$(basename "$scene" .json)
-  log=$(./build/archwave "$scene" -o "/tmp/archwave_gallery_$name.exr" --no-progress "$@" 2>&1)
+  log=$("${ARCHWAVE_BIN:-./build/archwave}" "$scene" -o "/tmp/archwave_gallery_$name.exr" --no-progress "$@" 2>&1)
   cp "/tmp/archwave_gallery_$name.png" "docs/gallery/$name.png"
   secs=$(echo "$log" | awk '/^time/ {print $2}')
   spp=$(echo "$log" | sed -n 's/.*(\([0-9]*\) spp).*/\1/p')
