@@ -75,14 +75,14 @@ EXAMPLES["glossy_fresnel"] = scene(
 
 # Highlights of a green area light and a red point light at glossiness 1.0, 0.5, 0.0.
 hl_lights = [
-    {"type": "quad", "corner": [-3, 4, 2], "edge_u": [1.5, 0, 0], "edge_v": [0, 1.5, 0.3], "color": [0.2, 1, 0.2], "intensity": 8},
-    {"type": "point", "position": [3, 4, 3], "color": [1, 0.1, 0.1], "intensity": 40},
+    {"type": "quad", "corner": [-4, 3, 3], "edge_u": [1.5, 0, 0], "edge_v": [0, 1.5, 0.5], "color": [0.2, 1, 0.2], "intensity": 12},
+    {"type": "point", "position": [4, 4, 4], "color": [1, 0.15, 0.15], "intensity": 12},
 ]
 EXAMPLES["highlights"] = scene(
     {"g%d" % i: {"diffuse": {"color": [0.05, 0.05, 0.05]},
                  "reflection": {"weight": 1, "glossiness": g, "fresnel": {"use_ior": False, "facing": 0.5, "perpendicular": 1}}}
      for i, g in enumerate((1.0, 0.5, 0.0))},
-    row(["g0", "g1", "g2"]), lights=hl_lights, env=0.05)
+    row(["g0", "g1", "g2"]), lights=hl_lights, env=0.15)
 
 # Bronze metal with anisotropy -0.8.
 EXAMPLES["bronze_anisotropic"] = scene(
