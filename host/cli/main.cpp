@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
   // "--width 0" is rejected with the same message as in a scene file.
   std::string spp, width, height, seed;
   int device = 0, threads = 0;
-  bool scalar = false, list = false, quiet = false, no_progress = false;
+  bool scalar = false, list = false, quiet = false, no_progress = false, generic = false;
   std::vector<std::string> defines;
   std::string kernel_dir = aw::default_kernel_dir();
   unsigned pool = 0;
@@ -79,6 +79,9 @@ int main(int argc, char** argv) {
   app.add_option("--device", device, "OpenCL device index from --list-devices (default 0)");
   app.add_flag("--scalar", scalar, "Render with the host scalar path (Embree rays, same kernel headers)");
   app.add_flag("--list-devices", list, "List OpenCL platforms and devices, then exit");
+  app.add_flag("--generic-kernels", generic,
+               "Build the kernels with every material and light feature, instead of only those the scene uses "
+               "(for comparison; the default specialised build gives the same image)");
   app.add_option("-D,--define", defines,
                  "Set any scene key, e.g. -D render.max_depth=4 -D materials.floor.diffuse.color=[1,0,0]")
       ->take_last()
@@ -120,6 +123,7 @@ int main(int argc, char** argv) {
     aw::RenderOptions opts;
     opts.device = device;
     opts.pool_size = pool;
+    opts.generic_kernels = generic;
     opts.threads = threads;
     opts.kernel_dir = kernel_dir;
     opts.progress = !no_progress && aw::stderr_is_terminal();

@@ -20,6 +20,8 @@ struct RenderOptions {
   bool progress = false;      // progress line on stderr
   std::string kernel_dir;     // "" = embedded kernels
   std::string build_options;  // extra OpenCL build options (never fast-math in tests)
+  bool generic_kernels = false;  // build every feature in, not just what the scene uses
+  std::vector<std::string> force_off;  // feature names to compile out anyway (tests of the guard)
   const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
 };
 
@@ -29,6 +31,7 @@ struct RenderStats {
   double total_seconds = 0.0;
   double bvh_seconds = 0.0;
   double compile_seconds = 0.0;
+  std::string kernel_features;  // "generic" or the specialised feature list
   std::vector<std::pair<std::string, double>> stage_seconds;  // in pipeline order
   uint64_t closest_rays = 0;
   uint64_t shadow_rays = 0;

@@ -7,6 +7,7 @@
 #include "host/bvh/flat_bvh.h"
 #include "host/scene/scene.h"
 #include "kernels/common/compat.h"
+#include "kernels/common/features.h"
 #include "kernels/types/bvh.h"
 #include "kernels/types/scene.h"
 

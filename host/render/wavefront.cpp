@@ -16,6 +16,7 @@
 #include "host/cl/cl_runtime.h"
 #include "host/cl/kernel_source.h"
 #include "host/film/progress.h"
+#include "host/render/features.h"
 #include "host/render/render.h"
 #include "host/render/scene_pack.h"
 #include "kernels/integrator/path_state.h"
@@ -72,7 +73,14 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   ClRuntime rt(opts.device);
   st.device = rt.info().name + " (" + rt.info().platform + ")";
   std::string src = assemble_kernel_source("integrator/kernels.cl", opts.kernel_dir);
-  std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " + opts.build_options;
+  // Model only what the scene requires: specialise the program on the scene's features.
+  FeatureSet features = opts.generic_kernels ? FeatureSet::all() : derive_features(packed);
+  for (const std::string& off : opts.force_off)
+    for (int i = 0; i < FeatureSet::COUNT; ++i)
+      if (off == FeatureSet::name(i)) features.on[i] = false;
+  st.kernel_features = opts.generic_kernels ? "generic (every feature)" : "specialised: " + features.describe();
+  std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
+                        (opts.generic_kernels ? std::string() : features.defines()) + " " + opts.build_options;
   cl::Program program = rt.build(src, options, &st.compile_seconds);
 
   try {
@@ -133,10 +141,12 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     pass.kernel.setArg(1, queues); pass.kernel.setArg(2, counters);
     const char* lobe_kernels[AW_LID_COUNT] = {"shade_diffuse", "shade_translucency", "shade_reflection",
                                               "shade_reflection2", "shade_refraction"};
-    std::vector<Stage> shade;
+    std::vector<Stage> shade;  // one per lobe; lobes absent from the build have no kernel
+    std::vector<bool> has_lobe(AW_LID_COUNT);
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
-      shade.push_back(make(lobe_kernels[l], lobe_kernels[l]));
-      shading_args(shade.back());
+      has_lobe[l] = features.lobe(l);
+      shade.push_back(has_lobe[l] ? make(lobe_kernels[l], lobe_kernels[l]) : Stage{lobe_kernels[l], cl::Kernel()});
+      if (has_lobe[l]) shading_args(shade.back());
     }
     Stage shadow = make("intersect_shadow", "intersect_shadow");
     shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues);
@@ -148,7 +158,8 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     filmacc.kernel.setArg(1, samples); filmacc.kernel.setArg(2, film); filmacc.kernel.setArg(3, film_count);
 
     std::vector<Stage*> all = {&regen, &isect, &classify, &pass};
-    for (auto& s : shade) all.push_back(&s);
+    for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
+      if (has_lobe[l]) all.push_back(&shade[l]);
     for (Stage* s : {&shadow, &accum, &filmacc}) all.push_back(s);
     auto count_arg = [&](const Stage* s) {
       if (s == &pass) return 3;
@@ -228,6 +239,9 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         cnt[AW_Q_PASS] = 0;
         for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
           uint32_t n = cnt[AW_Q_LOBE + l];
+          if (n && !has_lobe[l])
+            throw std::logic_error(std::string("wavefront: paths queued for lobe '") + lobe_kernels[l] +
+                                   "', which this kernel build does not have");
           run(shade[l], n, true);
           cnt[AW_Q_LOBE + l] = 0;
         }
@@ -258,6 +272,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     std::vector<uint32_t> stat_vals(AW_STAT_COUNT);
     q.enqueueReadBuffer(stats, CL_TRUE, 0, stat_vals.size() * 4, stat_vals.data());
     st.bad_samples = stat_vals[AW_STAT_BAD_SAMPLES];
+    if (stat_vals[AW_STAT_MISSING_FEATURE] > 0)
+      throw std::logic_error(std::to_string(stat_vals[AW_STAT_MISSING_FEATURE]) +
+                             " paths met a material feature that the specialised kernels lack (" +
+                             st.kernel_features + "); the image would be wrong, so none is written. "
+                             "--generic-kernels renders it; please report this scene");
     for (Stage* s : all)
       if (s->seconds > 0.0) st.stage_seconds.emplace_back(s->name, s->seconds);
   } catch (const cl::Error& e) {

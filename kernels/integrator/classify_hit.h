@@ -9,6 +9,7 @@
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
 #include "integrator/scene_ref.h"
+#include "common/features.h"
 #include "common/ray.h"
 #include "lights/lights.h"
 #include "lobes/fog.h"
@@ -43,12 +44,14 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   uint light = PS_U(ps, hit_light);
 
   // Fog: the segment just traced ran inside a foggy object (Beer-Lambert, MATERIAL.md §3).
+#if AW_FEAT_FOG
   if (PS_U(ps, medium) != AW_NONE) {
     const AW_GLOBAL MaterialGpu* fm = &sc.materials[PS_U(ps, medium)];
     float3 tr = fog_transmittance(load_f3(fm->fog_end_color), fm->fog_distance,
                                   (fm->flags & AW_MAT_FOG_END_COLOR) != 0u, PS_F(ps, hit_t));
     ps_set_throughput(ps, ps_throughput(ps) * tr);
   }
+#endif
   float3 thr = ps_throughput(ps);
 
   if (light != AW_NONE) {
@@ -108,17 +111,28 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   // triangle faces it; every lobe would then reject wo. Use the true surface there.
   if (dot(nshade, ng) < 0.0f || dot(nshade, dir) >= 0.0f) nshade = ng;
 
+  if (material_uses_missing_feature(m)) {
+    // The host derived the features from this very scene, so this cannot happen; if it
+    // does, it is counted and the host refuses the image rather than render it wrong.
+    PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
+    return AW_Q_DONE;
+  }
+
   // Cutout: below 0.5 opacity the surface is not there; the ray goes on unchanged
   // (MATERIAL.md §1). Shadow rays do not see cutouts yet (they are opaque to light).
+#if AW_FEAT_CUTOUT
   if (m->cutout_opacity < 0.5f) {
     ps_set_ray(ps, offset_ray_origin(p, -ng), dir);
     return AW_Q_PASS;
   }
+#endif
 
   // Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
   // so no MIS: found by BSDF sampling only.)
+#if AW_FEAT_INCANDESCENCE
   float3 inc = load_f3(m->incandescent);
   if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * PS_F(ps, emit_scale));
+#endif
 
   // A path that has used up its scattering events ends here. (Its last ray was still
   // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
@@ -130,10 +144,12 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   PS_U(ps, material) = tri->material;
   if (front) PS_U(ps, flags) |= AW_PATH_FRONT;
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
+#if AW_FEAT_ANISOTROPY
   if (m->aniso_amount != 0.0f) {
     float3 t = triangle_tangent(v0, v1, v2, p0, p1, p2, nshade);
     PS_F(ps, sp_tx) = t.x; PS_F(ps, sp_ty) = t.y; PS_F(ps, sp_tz) = t.z;
   }
+#endif
 
   // Lobe choice (MATERIAL.md §2): in proportion to each lobe's share of the energy.
   float cos_o = clamp(-dot(dir, nshade), 0.0f, 1.0f);
@@ -146,6 +162,10 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] /= total;
   uint lid = material_pick_lobe(&lw, rng_1d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE));
   if (lid >= AW_LID_COUNT) return AW_Q_DONE;
+  if (!lobe_compiled(lid)) {  // unreachable after the material check above; kept as a guard
+    PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
+    return AW_Q_DONE;
+  }
   float3 w = lw.scale[lid] / lw.prob[lid];
   PS_F(ps, lobe_wr) = w.x; PS_F(ps, lobe_wg) = w.y; PS_F(ps, lobe_wb) = w.z;
   PS_U(ps, lobe) = lid;

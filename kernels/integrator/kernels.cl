@@ -138,11 +138,18 @@ void pass_through(const RenderParams rp, __global uint* queues, __global uint* c
     wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);                                     \
   }
 
+// Only the lobes this build has (kernels/common/features.h); the host launches only these.
 AW_SHADE_KERNEL(shade_diffuse, AW_LID_DIFFUSE)
+#if AW_FEAT_TRANSLUCENCY
 AW_SHADE_KERNEL(shade_translucency, AW_LID_TRANSLUCENCY)
+#endif
+#if AW_FEAT_REFLECTION
 AW_SHADE_KERNEL(shade_reflection, AW_LID_REFLECTION)
 AW_SHADE_KERNEL(shade_reflection2, AW_LID_REFLECTION2)
+#endif
+#if AW_FEAT_REFRACTION
 AW_SHADE_KERNEL(shade_refraction, AW_LID_REFRACTION)
+#endif
 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
@@ -173,6 +180,7 @@ void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __
     int bad;
     float3 l = path_result(ps, &rp, &bad);
     if (bad) atomic_inc(&stats[AW_STAT_BAD_SAMPLES]);
+    if (PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) atomic_inc(&stats[AW_STAT_MISSING_FEATURE]);
     uint job = PS_U(ps, job);
     samples[job * 3u + 0u] = l.x;
     samples[job * 3u + 1u] = l.y;

@@ -26,6 +26,7 @@ enum {
 #define AW_PATH_HAS_SHADOW 2u  // the lobe stage wrote a shadow ray this bounce
 #define AW_PATH_EMITTERS_ONLY 4u  // the ray only looks for lights: a surface hit ends the path
 #define AW_PATH_FRONT 8u          // the current hit is on the outside (front face) of its surface
+#define AW_PATH_MISSING_FEATURE 16u  // hit a material feature this kernel build lacks (a bug)
 
 #define AW_NONE 0xffffffffu
 

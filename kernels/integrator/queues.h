@@ -21,6 +21,7 @@
 
 // Slots of the stats counters buffer (integers only: nothing float is accumulated atomically).
 #define AW_STAT_BAD_SAMPLES 0
+#define AW_STAT_MISSING_FEATURE 1  // paths that met a feature compiled out of this build
 #define AW_STAT_COUNT 4
 
 #endif

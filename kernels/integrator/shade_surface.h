@@ -34,45 +34,87 @@ AW_FN LobeSetup lobe_setup(const AW_GLOBAL MaterialGpu* m, uint lid, int front) 
   int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
   if (lid == AW_LID_DIFFUSE) {
     l.color = load_f3(m->diffuse_color);
+#if AW_FEAT_ROUGH_DIFFUSE
     l.roughness = m->diffuse_roughness;
+#endif
   } else if (lid == AW_LID_TRANSLUCENCY) {
     l.color = load_f3(m->transl_color);
-  } else if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) {
+  }
+#if AW_FEAT_REFLECTION
+  else if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) {
     const AW_GLOBAL ReflectionGpu* r = &m->refl[lid == AW_LID_REFLECTION ? 0 : 1];
     float3 tint = load_f3(r->color);
     if (lid == AW_LID_REFLECTION && (m->flags & AW_MAT_METAL)) tint = tint * load_f3(m->diffuse_color);
     l.refl = reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, front, thin));
-  } else {
+  }
+#endif
+#if AW_FEAT_REFRACTION
+  else if (lid == AW_LID_REFRACTION) {
     // Refraction: a rough dielectric interface (GGX), or a thin wall (no bending).
     l.refr = refraction_params(m->refr_glossiness, AW_MF_GGX, material_eta(m->refr_ior, front, 0));
     l.thin = thin;
-    l.glossiness = m->refr_glossiness;
+    // MATERIAL.md §1: glossiness has no effect when IOR = 1 (a frosted pane of IOR 1 is clear).
+    l.glossiness = refraction_is_pass_through(m->refr_ior) ? 1.0f : m->refr_glossiness;
   }
+#endif
   return l;
 }
 
+// Dispatch on the lobe id (a constant in each shading kernel, so the branches fold away);
+// lobes compiled out of a specialised build are never dispatched to (classify_hit checks).
 AW_FN float3 lobe_eval(const LobeSetup* l, float3 wo, float3 wi) {
-  if (l->lid == AW_LID_DIFFUSE) return lobe_diffuse_eval(l->color, l->roughness, wo, wi);
+#if AW_FEAT_TRANSLUCENCY
   if (l->lid == AW_LID_TRANSLUCENCY) return lobe_translucency_eval(l->color, wo, wi);
+#endif
+#if AW_FEAT_REFRACTION
   if (l->lid == AW_LID_REFRACTION)
     return l->thin ? lobe_thin_transmission_eval(l->glossiness, wo, wi) : lobe_refraction_eval(l->refr, wo, wi);
-  return lobe_reflection_eval(l->refl, wo, wi);
+#endif
+#if AW_FEAT_REFLECTION
+  if (l->lid == AW_LID_REFLECTION || l->lid == AW_LID_REFLECTION2) return lobe_reflection_eval(l->refl, wo, wi);
+#endif
+  return lobe_diffuse_eval(l->color, l->roughness, wo, wi);
 }
 
 AW_FN float lobe_pdf(const LobeSetup* l, float3 wo, float3 wi) {
-  if (l->lid == AW_LID_DIFFUSE) return lobe_diffuse_pdf(l->roughness, wo, wi);
+#if AW_FEAT_TRANSLUCENCY
   if (l->lid == AW_LID_TRANSLUCENCY) return lobe_translucency_pdf(wo, wi);
+#endif
+#if AW_FEAT_REFRACTION
   if (l->lid == AW_LID_REFRACTION)
     return l->thin ? lobe_thin_transmission_pdf(l->glossiness, wo, wi) : lobe_refraction_pdf(l->refr, wo, wi);
-  return lobe_reflection_pdf(l->refl, wo, wi);
+#endif
+#if AW_FEAT_REFLECTION
+  if (l->lid == AW_LID_REFLECTION || l->lid == AW_LID_REFLECTION2) return lobe_reflection_pdf(l->refl, wo, wi);
+#endif
+  return lobe_diffuse_pdf(l->roughness, wo, wi);
 }
 
 AW_FN LobeSample lobe_sample(const LobeSetup* l, float3 wo, float2 u) {
-  if (l->lid == AW_LID_DIFFUSE) return lobe_diffuse_sample(l->color, l->roughness, wo, u);
+#if AW_FEAT_TRANSLUCENCY
   if (l->lid == AW_LID_TRANSLUCENCY) return lobe_translucency_sample(l->color, wo, u);
-  if (l->lid == AW_LID_REFRACTION)
-    return l->thin ? lobe_thin_transmission_sample(l->glossiness, wo, u) : lobe_refraction_sample(l->refr, wo, u);
-  return lobe_reflection_sample(l->refl, wo, u);
+#endif
+#if AW_FEAT_REFRACTION
+  if (l->lid == AW_LID_REFRACTION) {
+    if (l->thin) return lobe_thin_transmission_sample(l->glossiness, wo, u);
+    LobeSample s = lobe_refraction_sample(l->refr, wo, u);
+    // Total internal reflection: no refracted direction exists, so the energy the split gave
+    // to refraction is reflected, specularly (MATERIAL.md §3: "total internal reflection is
+    // handled"). Rough interfaces lose the share of microfacets that reflect totally (the
+    // furnace stays <= 1, kernels/lobes/refraction.h).
+    if (s.flags == 0u && refraction_is_delta(l->refr) && refraction_cos_t(wo.z, l->refr.eta) < 0.0f) {
+      s.wi = make_float3(-wo.x, -wo.y, wo.z);
+      s.weight = make_float3(1.0f, 1.0f, 1.0f);
+      s.pdf = 1.0f;
+      s.flags = AW_LOBE_SPECULAR | AW_LOBE_REFLECTION;
+    }
+    return s;
+  }
+#endif
+#if AW_FEAT_REFLECTION
+  if (l->lid == AW_LID_REFLECTION || l->lid == AW_LID_REFLECTION2) return lobe_reflection_sample(l->refl, wo, u);
+#endif
+  return lobe_diffuse_sample(l->color, l->roughness, wo, u);
 }
 
 // Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, MATERIAL.md §3).
@@ -89,7 +131,7 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
   const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
   int front = (PS_U(ps, flags) & AW_PATH_FRONT) != 0u;
   float3 t, b;
-  if (m->aniso_amount != 0.0f && (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2)) {
+  if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f && (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2)) {
     t = rotate_tangent(ps_sp_tangent(ps), n, m->aniso_rotation);
     b = cross(n, t);
   } else {
@@ -144,8 +186,9 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
   } else if (lid == AW_LID_REFRACTION) {
     cutoff = fmax(cutoff, m->refr_cutoff);
     PS_U(ps, depths) = depths + 0x10000u;
-    // Crossing a foggy object's surface: the path is inside its fog until it leaves.
-    if (!(m->flags & AW_MAT_THIN_WALLED) && m->fog_distance > 0.0f)
+    // Crossing a foggy object's surface: the path is inside its fog until it leaves. (A
+    // totally internally reflected path does not cross.)
+    if (!(m->flags & AW_MAT_THIN_WALLED) && m->fog_distance > 0.0f && (s.flags & AW_LOBE_TRANSMISSION))
       PS_U(ps, medium) = front ? PS_U(ps, material) : AW_NONE;
   } else if (!rp->gi) {
     // gi off (the documentation's "no GI" examples): no indirect diffuse. The bounce is still

@@ -8,6 +8,7 @@
 #define AW_LIGHTS_LIGHTS_H
 
 #include "common/compat.h"
+#include "common/features.h"
 #include "common/sampling.h"
 #include "types/scene.h"
 
@@ -27,10 +28,13 @@ AW_FN uint light_pick(const AW_GLOBAL LightGpu* lights, uint num_lights, float u
   return num_lights - 1;
 }
 
+// Light-type tests below are written `AW_FEAT_LIGHT_X && type == X`: in a specialised build
+// (kernels/common/features.h) the branches of absent light types fold away.
+
 // Radiance leaving an area light towards direction -dir (dir = ray direction hitting it).
 AW_FN float3 light_emitted(const AW_GLOBAL LightGpu* l, float3 dir) {
   float3 le = load_f3(l->radiance);
-  if (l->type == AW_LIGHT_SPHERE) return le;
+  if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) return le;
   float c = -dot(load_f3(l->n), dir);
   if (c > 0.0f || (l->flags & AW_LIGHT_TWO_SIDED)) return le;
   return make_float3(0.0f, 0.0f, 0.0f);
@@ -45,8 +49,8 @@ AW_FN float sphere_one_minus_cos_max(float sin2_max) {
 // Solid-angle pdf (given the light is chosen) of reaching `l` from `p` along unit `dir`,
 // hitting it at distance `t`. Must match light_sample exactly (MIS relies on it).
 AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t) {
-  if (l->type == AW_LIGHT_POINT) return 0.0f;
-  if (l->type == AW_LIGHT_SPHERE) {
+  if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return 0.0f;
+  if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     float3 c = load_f3(l->p);
     float3 pc = c - p;
     float d2 = dot(pc, pc);
@@ -74,7 +78,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   s.dist = 0.0f;
   s.wi = make_float3(0.0f, 0.0f, 1.0f);
   float3 y;
-  if (l->type == AW_LIGHT_POINT) {
+  if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) {
     float3 d = load_f3(l->p) - p;
     float d2 = dot(d, d);
     if (!(d2 > 0.0f)) return s;
@@ -85,7 +89,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
     s.is_delta = 1;
     return s;
   }
-  if (l->type == AW_LIGHT_SPHERE) {
+  if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     float3 c = load_f3(l->p);
     float3 pc = c - p;
     float d2 = dot(pc, pc);
@@ -114,7 +118,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
     float phi = 2.0f * M_PI_F * u.y;
     float3 nrm = make_float3(rxy * cos(phi), rxy * sin(phi), z);
     y = c + l->radius * nrm;
-  } else if (l->type == AW_LIGHT_QUAD) {
+  } else if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD) {
     y = load_f3(l->p) + u.x * load_f3(l->u) + u.y * load_f3(l->v);
   } else {  // disk
     float2 d = sample_concentric_disk(u);
@@ -134,8 +138,8 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
 
 // Distance along (org, dir) to area light `l` within (t_min, t_max), or -1.
 AW_FN float light_intersect(const AW_GLOBAL LightGpu* l, float3 org, float3 dir, float t_min, float t_max) {
-  if (l->type == AW_LIGHT_POINT) return -1.0f;
-  if (l->type == AW_LIGHT_SPHERE) {
+  if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return -1.0f;
+  if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     // Geometric form of the quadratic, stable for far spheres: the discriminant is formed
     // from the squared distance to the ray (Haines et al. 2019, Ray Tracing Gems Ch. 7, Eq. 8).
     float3 c = load_f3(l->p);
@@ -158,7 +162,7 @@ AW_FN float light_intersect(const AW_GLOBAL LightGpu* l, float3 org, float3 dir,
   float t = dot(n, p0 - org) / denom;
   if (!(t > t_min && t < t_max)) return -1.0f;
   float3 q = org + t * dir - p0;
-  if (l->type == AW_LIGHT_QUAD) {
+  if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD) {
     // Parallelogram coordinates via cross products (edges need not be orthogonal).
     float3 eu = load_f3(l->u), ev = load_f3(l->v);
     float a = dot(cross(q, ev), n) / l->area;

@@ -219,8 +219,11 @@ AW_FN float mf_G1(Microfacet m, float3 w, float3 h) {
 
 // Height-correlated masking-shadowing (Heitz 2014, Eq. 99):
 //   G2(wo, wi, h) = chi+(wo.h) chi+(wi.h) / (1 + Lambda(wo) + Lambda(wi)).
-// For transmission (wi.z < 0) Lambda(wi) is taken for the flipped direction -wi, as Heitz 2014
-// (Sec. 6) does for the lower hemisphere, and chi+ uses |wi.h| with wi.h on the far side.
+// For transmission (wi.z < 0, used by refraction.h) wi is flipped to the upper hemisphere:
+// Lambda depends only on the slope of the direction, and the visibility test becomes
+// wi.h < 0 (wi on the far side of the microfacet). This is the reflection formula applied
+// to transmission (as pbrt-v4 does), not Heitz 2014's separate height-correlated
+// transmission form; refraction.h states that choice.
 AW_FN float mf_G2(Microfacet m, float3 wo, float3 wi, float3 h) {
   if (!(dot(wo, h) > 0.0f) || !(wo.z > 0.0f)) return 0.0f;
   float3 wi_up = wi;
@@ -236,7 +239,7 @@ AW_FN float mf_G2(Microfacet m, float3 wo, float3 wi, float3 h) {
 /* ----------------------------- visible normals ------------------------------------------- */
 
 // Density of the distribution of visible normals seen from wo, per solid angle of h
-// (Heitz 2014, Eq. 38 / Heitz & d'Eon 2014, Eq. 2):
+// (Heitz & d'Eon 2014, Sec. 3; Heitz 2014, Sec. 2 — normalised by Eq. 2):
 //   D_wo(h) = G1(wo, h) max(0, wo.h) D(h) / wo.z = max(0, wo.h) D(h) / P(wo)
 // (the second form, with the projected area P = wo.z (1 + Lambda), stays finite as wo.z -> 0).
 AW_FN float mf_pdf_visible(Microfacet m, float3 wo, float3 h) {

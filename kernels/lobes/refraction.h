@@ -23,9 +23,9 @@
 // leaving it gets eta^2, and a path in and back out through parallel faces gets exactly 1.
 // The BTDF is correspondingly not symmetric: f(wo -> wi; eta) * eta^2 = f(wi -> wo; 1/eta)
 // (Veach 1997, Sec. 5.2, the generalised reciprocity f(a -> b) / n_b^2 = f(b -> a) / n_a^2;
-// tests/lobes/test_refraction.cpp checks both). Measured as importance
-// (times eta^2) the transmitted part of a smooth surface has albedo exactly 1, the rough one
-// at most 1.
+// tests/lobes/test_refraction.cpp checks both). Measured as importance (times eta^2) the
+// transmitted part of a smooth surface has albedo exactly 1, the rough one at most 1; measured
+// as radiance they are 1/eta^2 and at most 1/eta^2.
 //
 // IOR 1: |eta - 1| < 1e-3 is a straight pass-through (wi = -wo exactly, weight 1) whatever the
 // roughness (MATERIAL.md §1: glossiness has "no effect when IOR = 1").
@@ -86,8 +86,8 @@ AW_FN float refraction_cos_t(float cos_i, float eta) {
 
 // Refracts wo (unit, pointing away from the surface on the side n points to: dot(wo, n) >= 0)
 // through the interface with normal n into the far side; returns 0 under total internal
-// reflection (or when wo is below n) and leaves *wt untouched. Vector form of Snell's law
-// (the vector form of Snell's law, as in pbrt-v4's Refract(), Sec. 9.3; wo points away):
+// reflection (or when wo is below n) and leaves *wt untouched. The vector form of Snell's law
+// (as in pbrt-v4's Refract(), Sec. 9.3, with wo pointing away from the surface):
 //   wt = -wo / eta + (cos_i / eta - cos_t) n.
 // eta exactly 1 returns wt = -wo exactly (no rounding through the formula).
 AW_FN int refract_dir(float3 wo, float3 n, float eta, float3* wt) {
@@ -110,8 +110,8 @@ AW_FN int refract_dir(float3 wo, float3 n, float eta, float3* wt) {
 // Generalised half vector for transmission, Walter et al. 2007, Eq. 16:
 // h_t = -(eta_i i + eta_o o) / |...| with i = wi, o = wo, eta_i = eta, eta_o = 1, oriented to
 // +z. Returns 0 when the configuration is not a refraction through a microfacet h: wo must be
-// in front of h and wi behind it (Walter, Sec. 4.2: o.h and i.h of opposite signs; with h.z > 0
-// that is wo.h > 0 > wi.h), or h is degenerate.
+// in front of h and wi behind it (o.h and i.h of opposite signs, as Walter requires for a
+// transmission half vector; with h.z > 0 that is wo.h > 0 > wi.h), or h is degenerate.
 AW_FN int refraction_half_vector(float3 wo, float3 wi, float eta, float3* h) {
   float3 v = -(wo + eta * wi);
   float len = length(v);
@@ -169,9 +169,10 @@ AW_FN float3 lobe_refraction_eval(RefractionParams p, float3 wo, float3 wi) {
   return make_float3(f, f, f);
 }
 
-// Solid-angle density of lobe_refraction_sample: visible normal h of wo (Heitz 2018), then
-// refraction about h, so pdf(wi) = pdf_visible(h) |dh/dwi| with the Jacobian of Walter et al.
-// 2007, Eq. 17 written for the sampled direction wi (eta_i = eta, eta_o = 1):
+// Solid-angle density of lobe_refraction_sample: a visible normal h of wo (mf_sample_visible:
+// Heitz 2018 for GGX, Jakob 2014 for Beckmann), then refraction about h, so
+// pdf(wi) = pdf_visible(h) |dh/dwi| with the Jacobian of Walter et al. 2007, Eq. 17 written
+// for the sampled direction wi (eta_i = eta, eta_o = 1):
 //   |dh/dwi| = eta^2 |wi.h| / (eta (wi.h) + (wo.h))^2.
 // Visible normals whose refraction is impossible (TIR at that microfacet) make the sample
 // fail, so this density integrates to less than 1 where that happens.

@@ -5,6 +5,7 @@
 #define AW_MATERIAL_ARCHITECTURAL_H
 
 #include "common/compat.h"
+#include "common/features.h"
 #include "lobes/fresnel.h"
 #include "lobes/thin_walled.h"
 #include "types/material.h"
@@ -54,22 +55,35 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
   float3 zero = make_float3(0.0f, 0.0f, 0.0f);
 
   // Reflection: rho1 = weight * color * F1(theta_o) (x diffuse colour when metal).
+  float3 rho1 = zero, rho2 = zero;
+  float f1 = 0.0f, f2 = 0.0f, lum1 = 0.0f, lum2 = 0.0f, keep2 = 1.0f;
+#if AW_FEAT_REFLECTION
   float3 tint1 = load_f3(m->refl[0].color);
   if (metal) tint1 = tint1 * diffuse;
-  float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
-  float3 rho1 = m->refl[0].weight * f1 * tint1;
-  float lum1 = fmin(1.0f, luminance(rho1));
+  f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
+  rho1 = m->refl[0].weight * f1 * tint1;
+  lum1 = fmin(1.0f, luminance(rho1));
   // Reflection 2 gets what reflection 1 leaves.
-  float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
-  float keep2 = 1.0f - lum1;
-  float3 rho2 = m->refl[1].weight * f2 * keep2 * load_f3(m->refl[1].color);
-  float lum2 = luminance(rho2);
+  f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
+  keep2 = 1.0f - lum1;
+  rho2 = m->refl[1].weight * f2 * keep2 * load_f3(m->refl[1].color);
+  lum2 = luminance(rho2);
+#endif
   // Whatever reflection leaves is transmitted (refraction, translucency) or diffuse.
   float rest = 1.0f - fmin(1.0f, lum1 + lum2);
   float w_t = m->refr_weight * rest;
+#if AW_FEAT_TRANSLUCENCY
   float w_transl = (m->flags & AW_MAT_TRANSLUCENCY) ? w_t * m->transl_weight : 0.0f;
+#else
+  float w_transl = 0.0f;
+#endif
   float w_refr = w_t - w_transl;
-  float w_d = rest * (1.0f - m->refr_weight * luminance(load_f3(m->refr_color)));
+  float w_d = rest;
+#if AW_FEAT_REFRACTION || AW_FEAT_TRANSLUCENCY
+  w_d *= (1.0f - m->refr_weight * luminance(load_f3(m->refr_color)));
+#else
+  w_refr = 0.0f;
+#endif
   if (metal) w_d *= (1.0f - lum1);
 
   // Skip weak internal reflections: inside a refractive object, partial reflections are not
@@ -102,6 +116,32 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
   }
   for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] = total > 0.0f ? lw.albedo[i] / total : 0.0f;
   return lw;
+}
+
+AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
+
+// Whether material m uses a feature this build lacks. Mirrors derive_features
+// (host/render/features.cpp) term by term; with every feature on it folds to 0. Checked at
+// every hit, so a specialised build can never silently render a material differently.
+AW_FN int material_uses_missing_feature(const AW_GLOBAL MaterialGpu* m) {
+  int refl = (m->refl[0].weight > 0.0f && positive3(m->refl[0].color)) ||
+             (m->refl[1].weight > 0.0f && positive3(m->refl[1].color));
+  int transmit = m->refr_weight > 0.0f;
+  int transl = transmit && (m->flags & AW_MAT_TRANSLUCENCY) && m->transl_weight > 0.0f;
+  int refr = transmit && !(transl && m->transl_weight >= 1.0f);
+  return (!AW_FEAT_REFLECTION && refl) || (!AW_FEAT_TRANSLUCENCY && transl) || (!AW_FEAT_REFRACTION && refr) ||
+         (!AW_FEAT_ROUGH_DIFFUSE && m->diffuse_roughness > 0.0f) ||
+         (!AW_FEAT_ANISOTROPY && refl && m->aniso_amount != 0.0f) ||
+         (!AW_FEAT_FOG && refr && m->fog_distance > 0.0f) || (!AW_FEAT_CUTOUT && m->cutout_opacity < 0.5f) ||
+         (!AW_FEAT_INCANDESCENCE && positive3(m->incandescent));
+}
+
+// Whether this build contains the shading kernel of lobe `lid` (kernels/common/features.h).
+AW_FN int lobe_compiled(uint lid) {
+  if (lid == AW_LID_TRANSLUCENCY) return AW_FEAT_TRANSLUCENCY;
+  if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) return AW_FEAT_REFLECTION;
+  if (lid == AW_LID_REFRACTION) return AW_FEAT_REFRACTION;
+  return 1;
 }
 
 // Picks a lobe with probability prob[]; returns AW_LID_COUNT when no lobe has weight.

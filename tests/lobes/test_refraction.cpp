@@ -13,8 +13,13 @@
 // The full chi-square grid at >= 1e6 samples per case is in tests/lobes_long.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include "kernels/lobes/fog.h"
@@ -148,27 +153,43 @@ LobeFns zoomed(const LobeFns& f, const Zoom& z) {
   return g;
 }
 
-// Where a lobe is centred: the normalised mean of some of its samples (-z if none succeed).
-// Only a choice of zoom centre, so any direction would do; this one spreads the lobe best.
-float3 lobe_centre(const LobeFns& f, float3 wo) {
+// The zoom for a lobe, chosen from its own samples (any choice is valid, since the test is
+// invariant under the map; this one spreads the lobe over many bins): centre = the normalised
+// mean of up to 256 successful samples, and k such that the median angular distance psi_m
+// from the centre maps to 60 deg: k tan(psi_m / 2) = tan(30 deg), k in [1, 1e4]. A lobe that
+// never samples gets the identity (k = 1).
+Zoom lobe_zoom(const LobeFns& f, float3 wo) {
   Uniform uni(99u);
-  double m[3] = {0.0, 0.0, 0.0};
-  for (int i = 0; i < 1024; ++i) {
+  std::vector<float3> ws;
+  for (int i = 0; i < (1 << 18) && ws.size() < 256; ++i) {
     LobeSample s = f.sample(wo, uni.next2());
-    if (!s.flags) continue;
-    m[0] += s.wi.x;
-    m[1] += s.wi.y;
-    m[2] += s.wi.z;
+    if (s.flags != 0u && !(s.flags & AW_LOBE_SPECULAR)) ws.push_back(s.wi);
+  }
+  double m[3] = {0.0, 0.0, 0.0};
+  for (float3 w : ws) {
+    m[0] += w.x;
+    m[1] += w.y;
+    m[2] += w.z;
   }
   double n = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-  if (!(n > 0.0)) return make_float3(0.0f, 0.0f, -1.0f);
-  return make_float3(float(m[0] / n), float(m[1] / n), float(m[2] / n));
+  if (ws.empty() || !(n > 0.0)) return make_zoom(make_float3(0.0f, 0.0f, -1.0f), 1.0);
+  float3 c = make_float3(float(m[0] / n), float(m[1] / n), float(m[2] / n));
+  std::vector<double> psi;
+  for (float3 w : ws) {
+    double cx = double(w.y) * c.z - double(w.z) * c.y, cy = double(w.z) * c.x - double(w.x) * c.z,
+           cz = double(w.x) * c.y - double(w.y) * c.x;
+    psi.push_back(std::atan2(std::sqrt(cx * cx + cy * cy + cz * cz), double(dot(w, c))));
+  }
+  std::nth_element(psi.begin(), psi.begin() + psi.size() / 2, psi.end());
+  double t = std::tan(0.5 * psi[psi.size() / 2]);
+  double k = t > 0.0 ? std::tan(3.14159265358979323846 / 6.0) / t : 1e4;
+  return make_zoom(c, std::min(1e4, std::max(1.0, k)));
 }
 
-// Chi-square of a lobe with roughness alpha, through the zoom: centred on the lobe (bins
-// uniform in theta are finest there) and magnified by 1.5 / alpha, so that even narrow lobes
-// spread over many bins. Failed samples are a cell of the test (expect_unit_mass = false).
-::testing::AssertionResult zoomed_chi_square(const LobeFns& lobe, float3 wo, float alpha, size_t samples,
+// Chi-square of a lobe through its zoom (lobe_zoom: centred on the lobe, where bins uniform in
+// theta are finest, and magnified so that even narrow lobes spread over many bins). Failed
+// samples are a cell of the test (expect_unit_mass = false).
+::testing::AssertionResult zoomed_chi_square(const LobeFns& lobe, float3 wo, size_t samples,
                                              int n_cases, uint32_t seed) {
   ChiSquareConfig cfg;
   cfg.samples = samples;
@@ -176,7 +197,7 @@ float3 lobe_centre(const LobeFns& f, float3 wo) {
   cfg.seed = seed;
   cfg.expect_unit_mass = false;
   cfg.bin_in_theta = true;
-  LobeFns f = zoomed(lobe, make_zoom(lobe_centre(lobe, wo), std::max(1.0, 1.5 / double(alpha))));
+  LobeFns f = zoomed(lobe, lobe_zoom(lobe, wo));
   return chi_square_passes(f, wo, cfg);
 }
 
@@ -185,13 +206,12 @@ float3 lobe_centre(const LobeFns& f, float3 wo) {
 ::testing::AssertionResult refraction_chi_square(uint dist, float g, float eta, double theta, size_t samples,
                                                  int n_cases, uint32_t seed) {
   RefractionParams p = refraction_params(g, dist, eta);
-  return zoomed_chi_square(refraction_fns(p), direction_from_theta_deg(theta), p.mf.ax, samples, n_cases, seed);
+  return zoomed_chi_square(refraction_fns(p), direction_from_theta_deg(theta), samples, n_cases, seed);
 }
 
 // Frosted thin wall: samples fail where the reflection about h goes below the horizon.
 ::testing::AssertionResult thin_chi_square(float g, double theta, size_t samples, int n_cases, uint32_t seed) {
-  return zoomed_chi_square(thin_fns(g), direction_from_theta_deg(theta), glossiness_to_alpha(g), samples, n_cases,
-                           seed);
+  return zoomed_chi_square(thin_fns(g), direction_from_theta_deg(theta), samples, n_cases, seed);
 }
 
 // ------------------------------------------------------------------------------------------
@@ -731,8 +751,11 @@ TEST(Fog, DisabledAndExtremeInputsAreFinite) {
 
 // ------------------------------------------------------------------------------------------
 // Host vs device: the same headers compiled as OpenCL C on the device and as C++ here, on
-// fixed inputs. Tolerance: kHostDeviceRelTol (1e-5 relative, floor 1e-6) from the harness;
-// the measured maxima are printed (see the report in the commit).
+// fixed inputs (every output: eval, pdf, sampled direction, weight, sample pdf, flags, cos_t,
+// radiance scale; R', T'; fog). Tolerance: kHostDeviceRelTol (1e-5 relative, floor 1e-6) from
+// the harness. Measured on PoCL 3.1 (CPU): max relative difference 1.1e-6 (refraction),
+// 1.3e-6 (thin walls), 8.4e-8 (fog), from the device's own sqrt/pow/exp/log and divisions;
+// the test prints the maxima.
 // ------------------------------------------------------------------------------------------
 TEST(TransmissionDevice, RefractionMatchesHost) {
   std::vector<float> in;

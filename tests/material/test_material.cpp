@@ -43,22 +43,23 @@ struct Albedo {
   double mean, stderr_;
 };
 
-Albedo furnace(const MaterialGpu& m, float cos_o, int n = 200000, uint32_t seed = 7) {
+Albedo furnace(const MaterialGpu& m, float cos_o, int n = 200000, uint32_t seed = 7, int entering = 1) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> U(0.0f, 0.99999994f);
   float3 wo(std::sqrt(std::max(0.0f, 1.0f - cos_o * cos_o)), 0.0f, cos_o);
-  LobeWeights lw = material_lobe_weights(&m, cos_o, 1);
+  LobeWeights lw = material_lobe_weights(&m, cos_o, entering);
   double sum = 0.0, sum2 = 0.0;
   for (int i = 0; i < n; ++i) {
     uint32_t lid = material_pick_lobe(&lw, U(rng));
     double v = 0.0;
     if (lid < AW_LID_COUNT) {
-      LobeSetup l = lobe_setup(&m, lid, 1);
+      LobeSetup l = lobe_setup(&m, lid, entering);
       LobeSample s = lobe_sample(&l, wo, float2(U(rng), U(rng)));
       if (s.flags) {
         float3 w = s.weight * lw.scale[lid] / lw.prob[lid];
         v = luminance(w);
-        if (lid == AW_LID_REFRACTION && !l.thin) v *= double(l.refr.eta) * l.refr.eta;  // importance
+        if (lid == AW_LID_REFRACTION && !l.thin && (s.flags & AW_LOBE_TRANSMISSION))
+          v *= double(l.refr.eta) * l.refr.eta;  // importance
       }
     }
     EXPECT_TRUE(std::isfinite(v));
@@ -87,6 +88,18 @@ TEST(MaterialFurnace, LosslessConfigurationsGiveOne) {
     for (float c : cosines) {
       Albedo a = furnace(m, c);
       EXPECT_NEAR(a.mean, 1.0, 4.0 * a.stderr_ + 1e-4) << "smooth glass at cos " << c;
+    }
+  }
+  {  // inside smooth glass: below the critical angle reflection F + refraction 1 - F; past it,
+     // total internal reflection takes everything, also with reflection.weight < 1 (the
+     // refraction share is reflected). Default weight 0.6.
+    MaterialGpu m = base_material();
+    m.refl[0].weight = 0.6f;
+    m.refr_weight = 1.0f;
+    for (float c : {1.0f, 0.9f, 0.5f /* past the critical angle of 1/1.5 */, 0.1f}) {
+      Albedo a = furnace(m, c, 200000, 9, /*entering=*/0);
+      EXPECT_LE(a.mean, 1.0 + 4.0 * a.stderr_ + 1e-4) << "inside glass at cos " << c;
+      if (c < 0.74f) EXPECT_NEAR(a.mean, 1.0, 1e-5) << "total internal reflection at cos " << c;
     }
   }
   {  // perfect mirror (curve 1/1)

@@ -1,0 +1,30 @@
+// Scene features the kernels can be specialised for (DESIGN.md principle 4: model only what
+// a scene requires). host/render/features.cpp derives the set from the loaded scene and
+// builds the OpenCL program with -DAW_SPECIALISED and one -DAW_FEAT_*=0/1 per feature; code
+// paths for absent features compile out and their queues are never launched.
+// Without AW_SPECIALISED (the host scalar path, the tests, --generic-kernels) every feature
+// is on: the generic build.
+#ifndef AW_COMMON_FEATURES_H
+#define AW_COMMON_FEATURES_H
+
+#ifndef AW_SPECIALISED
+#define AW_FEAT_TRANSLUCENCY 1
+#define AW_FEAT_REFLECTION 1     // either reflection lobe has weight somewhere
+#define AW_FEAT_REFRACTION 1
+#define AW_FEAT_ROUGH_DIFFUSE 1  // some diffuse roughness > 0 (EON instead of Lambert)
+#define AW_FEAT_ANISOTROPY 1
+#define AW_FEAT_FOG 1
+#define AW_FEAT_CUTOUT 1
+#define AW_FEAT_INCANDESCENCE 1
+#define AW_FEAT_LIGHT_POINT 1
+#define AW_FEAT_LIGHT_QUAD 1
+#define AW_FEAT_LIGHT_DISK 1
+#define AW_FEAT_LIGHT_SPHERE 1
+#endif
+
+// The list, for the host (names in the order of the defines above).
+#define AW_FEATURE_LIST(X)                                                                     \
+  X(TRANSLUCENCY) X(REFLECTION) X(REFRACTION) X(ROUGH_DIFFUSE) X(ANISOTROPY) X(FOG) X(CUTOUT) \
+  X(INCANDESCENCE) X(LIGHT_POINT) X(LIGHT_QUAD) X(LIGHT_DISK) X(LIGHT_SPHERE)
+
+#endif
