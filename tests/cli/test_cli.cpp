@@ -131,7 +131,7 @@ TEST(Cli, HelpDocumentsEveryFlag) {
   std::ifstream in(out);
   std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const char* flag : {"--output", "--spp", "--seed", "--width", "--height", "--device", "--scalar",
-                           "--list-devices", "--define", "--kernels", "--pool", "--quiet"})
+                           "--list-devices", "--define", "--kernels", "--pool", "--quiet", "--generic-kernels"})
     EXPECT_NE(help.find(flag), std::string::npos) << flag;
 }
 
