@@ -114,7 +114,7 @@ AW_FN float as_half_vector_pdf(float nu, float nv, float3 h) {
 }
 
 // Half vector of a reflection pair; 0 when it does not exist (both directions must be above
-// the surface).
+// the surface). Also the reflection lobe's (reflection.h) for Beckmann / GGX.
 AW_FN int as_half_vector(float3 wo, float3 wi, float3* h) {
   if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return 0;
   float3 v = wo + wi;
@@ -181,11 +181,7 @@ AW_FN float3 as_sample_half_vector(float nu, float nv, float2 u) {
 }
 
 AW_FN LobeSample lobe_ashikhmin_shirley_sample(AshikhminShirleyParams p, float3 wo, float2 u) {
-  LobeSample s;
-  s.wi = make_float3(0.0f, 0.0f, 1.0f);
-  s.weight = make_float3(0.0f, 0.0f, 0.0f);
-  s.pdf = 0.0f;
-  s.flags = 0u;
+  LobeSample s = lobe_no_sample();
   if (!(wo.z > 0.0f) || as_is_delta(p.nu, p.nv)) return s;
   float3 hs = as_sample_half_vector(p.nu, p.nv, u);
   float oh_s = dot(wo, hs);

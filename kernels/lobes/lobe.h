@@ -33,4 +33,15 @@ typedef struct {
 
 AW_FN float cos_theta(float3 w) { return w.z; }
 
+// The failed sample of the contract: flags 0, weight 0, pdf 0 (wi is +z, a placeholder that
+// callers must not use).
+AW_FN LobeSample lobe_no_sample(void) {
+  LobeSample s;
+  s.wi = make_float3(0.0f, 0.0f, 1.0f);
+  s.weight = make_float3(0.0f, 0.0f, 0.0f);
+  s.pdf = 0.0f;
+  s.flags = 0u;
+  return s;
+}
+
 #endif

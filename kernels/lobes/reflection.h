@@ -95,16 +95,6 @@ AW_FN uint reflection_flags(ReflectionParams p) {
 
 /* ------------------------------- Beckmann / GGX ------------------------------------------ */
 
-// Half vector of a reflection pair with both directions above the surface; 0 otherwise.
-AW_FN int reflection_half_vector(float3 wo, float3 wi, float3* h) {
-  if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return 0;
-  float3 v = wo + wi;
-  float len = length(v);
-  if (!(len > 0.0f)) return 0;
-  *h = v / len;
-  return 1;
-}
-
 // wo.z wi.z (1 + Lambda(wo) + Lambda(wi)) = wo.z wi.z / G2, from the projected-area excesses.
 AW_FN float reflection_mf_g2_denominator(Microfacet m, float3 wo, float3 wi) {
   return wo.z * wi.z + mf_proj_excess(m, wo) * wi.z + mf_proj_excess(m, wi) * wo.z;
@@ -112,7 +102,7 @@ AW_FN float reflection_mf_g2_denominator(Microfacet m, float3 wo, float3 wi) {
 
 AW_FN float reflection_mf_eval(ReflectionParams p, float3 wo, float3 wi) {
   float3 h;
-  if (!reflection_half_vector(wo, wi, &h)) return 0.0f;
+  if (!as_half_vector(wo, wi, &h)) return 0.0f;
   float oh = dot(wo, h);
   if (!(oh > 0.0f)) return 0.0f;
   float den = 4.0f * reflection_mf_g2_denominator(p.mf, wo, wi);
@@ -124,7 +114,7 @@ AW_FN float reflection_mf_eval(ReflectionParams p, float3 wo, float3 wi) {
 // pdf = D_wo(h) / (4 wo.h) = D(h) / (4 P(wo))  (mf_pdf_visible with Walter 2007, Eq. 14).
 AW_FN float reflection_mf_pdf(ReflectionParams p, float3 wo, float3 wi) {
   float3 h;
-  if (!reflection_half_vector(wo, wi, &h)) return 0.0f;
+  if (!as_half_vector(wo, wi, &h)) return 0.0f;
   if (!(dot(wo, h) > 0.0f)) return 0.0f;
   float pa = mf_proj_area(p.mf, wo);
   if (!(pa > 0.0f)) return 0.0f;
@@ -132,17 +122,8 @@ AW_FN float reflection_mf_pdf(ReflectionParams p, float3 wo, float3 wi) {
   return (pdf > 0.0f && isfinite(pdf)) ? pdf : 0.0f;
 }
 
-AW_FN LobeSample reflection_no_sample(void) {
-  LobeSample s;
-  s.wi = make_float3(0.0f, 0.0f, 1.0f);
-  s.weight = make_float3(0.0f, 0.0f, 0.0f);
-  s.pdf = 0.0f;
-  s.flags = 0u;
-  return s;
-}
-
 AW_FN LobeSample reflection_mf_sample(ReflectionParams p, float3 wo, float2 u) {
-  LobeSample s = reflection_no_sample();
+  LobeSample s = lobe_no_sample();
   if (!(wo.z > 0.0f)) return s;
   float3 hs = mf_sample_visible(p.mf, wo, u);
   float oh_s = dot(wo, hs);
@@ -180,7 +161,7 @@ AW_FN float lobe_reflection_pdf(ReflectionParams p, float3 wo, float3 wi) {
 
 AW_FN LobeSample lobe_reflection_sample(ReflectionParams p, float3 wo, float2 u) {
   if (reflection_is_delta(p)) {
-    LobeSample s = reflection_no_sample();
+    LobeSample s = lobe_no_sample();
     if (!(wo.z > 0.0f)) return s;
     s.wi = make_float3(-wo.x, -wo.y, wo.z);
     s.weight = p.tint * fresnel_eval(p.fresnel, wo.z);

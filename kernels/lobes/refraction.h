@@ -124,15 +124,6 @@ AW_FN int refraction_half_vector(float3 wo, float3 wi, float eta, float3* h) {
   return 1;
 }
 
-AW_FN LobeSample refraction_no_sample(void) {
-  LobeSample s;
-  s.wi = make_float3(0.0f, 0.0f, 1.0f);
-  s.weight = make_float3(0.0f, 0.0f, 0.0f);
-  s.pdf = 0.0f;
-  s.flags = 0u;
-  return s;
-}
-
 // G2(wo, wi, h) / wo.z for a valid refraction configuration (wo.h > 0 > wi.h, wo.z > 0 > wi.z,
 // as refraction_half_vector guarantees), with G2 the height-correlated Smith term of
 // microfacet.h (Heitz 2014, Eq. 99, Lambda(wi) taken for -wi). Written with the projected
@@ -199,7 +190,7 @@ AW_FN float lobe_refraction_pdf(RefractionParams p, float3 wo, float3 wi) {
 // with P(wo) = wo.z / G1(wo) the projected area; computed from the h that eval and pdf
 // recompute from wi, so that weight == eval / pdf to rounding.
 AW_FN LobeSample lobe_refraction_sample(RefractionParams p, float3 wo, float2 u) {
-  LobeSample s = refraction_no_sample();
+  LobeSample s = lobe_no_sample();
   if (!(wo.z > 0.0f) || !(p.eta > 0.0f)) return s;
 
   if (refraction_is_pass_through(p.eta)) {

@@ -6,6 +6,19 @@
 #include "lobes/refraction.h"
 #include "lobes/thin_walled.h"
 
+// The first 8 outputs shared by the lobe probes: eval, pdf, sample wi.xyz, sample weight,
+// sample pdf, sample flags (eval and weight: channel x only, what the tests compare).
+AW_FN void probe_store_lobe(AW_GLOBAL float* o, float eval, float pdf, LobeSample s) {
+  o[0] = eval;
+  o[1] = pdf;
+  o[2] = s.wi.x;
+  o[3] = s.wi.y;
+  o[4] = s.wi.z;
+  o[5] = s.weight.x;
+  o[6] = s.pdf;
+  o[7] = (float)s.flags;
+}
+
 // in  (12 per item): ax, ay, dist, eta, wo.xyz, wi.xyz, u.xy
 // out (10 per item): eval, pdf, sample wi.xyz, sample weight, sample pdf, sample flags,
 //                    refraction_cos_t(wo.z, eta), refraction_radiance_scale(eta)
@@ -24,15 +37,8 @@ __kernel void probe_refraction(uint n, __global const float* in, __global float*
   float3 wo = make_float3(a[4], a[5], a[6]);
   float3 wi = make_float3(a[7], a[8], a[9]);
   float2 u = make_float2(a[10], a[11]);
-  o[0] = lobe_refraction_eval(p, wo, wi).x;
-  o[1] = lobe_refraction_pdf(p, wo, wi);
-  LobeSample s = lobe_refraction_sample(p, wo, u);
-  o[2] = s.wi.x;
-  o[3] = s.wi.y;
-  o[4] = s.wi.z;
-  o[5] = s.weight.x;
-  o[6] = s.pdf;
-  o[7] = (float)s.flags;
+  probe_store_lobe(o, lobe_refraction_eval(p, wo, wi).x, lobe_refraction_pdf(p, wo, wi),
+                   lobe_refraction_sample(p, wo, u));
   o[8] = refraction_cos_t(wo.z, p.eta);
   o[9] = refraction_radiance_scale(p.eta);
 }
@@ -50,15 +56,8 @@ __kernel void probe_thin_walled(uint n, __global const float* in, __global float
   float3 wo = make_float3(a[1], a[2], a[3]);
   float3 wi = make_float3(a[4], a[5], a[6]);
   float2 u = make_float2(a[7], a[8]);
-  o[0] = lobe_thin_transmission_eval(g, wo, wi).x;
-  o[1] = lobe_thin_transmission_pdf(g, wo, wi);
-  LobeSample s = lobe_thin_transmission_sample(g, wo, u);
-  o[2] = s.wi.x;
-  o[3] = s.wi.y;
-  o[4] = s.wi.z;
-  o[5] = s.weight.x;
-  o[6] = s.pdf;
-  o[7] = (float)s.flags;
+  probe_store_lobe(o, lobe_thin_transmission_eval(g, wo, wi).x, lobe_thin_transmission_pdf(g, wo, wi),
+                   lobe_thin_transmission_sample(g, wo, u));
   o[8] = thin_wall_reflectance(a[9]);
   o[9] = thin_wall_transmittance(a[9]);
 }

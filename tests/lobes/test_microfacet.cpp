@@ -16,6 +16,7 @@
 #include "kernels/lobes/reflection.h"
 #include "kernels/tests/probe_reflection.cl"
 #include "tests/lobes/lobe_harness.h"
+#include "tests/lobes/reflection_cases.h"
 
 namespace aw {
 namespace lobe_test {
@@ -25,34 +26,6 @@ const double kPi = 3.14159265358979323846;
 
 // ---- helpers -------------------------------------------------------------------------------
 
-FresnelParams fresnel_dielectric_1_5() {
-  FresnelParams f;
-  f.mode = AW_FRESNEL_DIELECTRIC;
-  f.eta = 1.5f;
-  f.k = 0.0f;
-  f.facing = 0.2f;
-  f.perpendicular = 1.0f;
-  f.curve = 5.0f;
-  return f;
-}
-
-FresnelParams fresnel_conductor_gold() {  // scalar n, k of gold around 600 nm
-  FresnelParams f = fresnel_dielectric_1_5();
-  f.mode = AW_FRESNEL_CONDUCTOR;
-  f.eta = 0.25f;
-  f.k = 3.0f;
-  return f;
-}
-
-FresnelParams fresnel_curve_default() {  // MATERIAL.md §1 defaults
-  FresnelParams f = fresnel_dielectric_1_5();
-  f.mode = AW_FRESNEL_CURVE;
-  f.facing = 0.2f;
-  f.perpendicular = 1.0f;
-  f.curve = 5.0f;
-  return f;
-}
-
 FresnelParams fresnel_one() {  // F == 1 at every angle: facing = perpendicular = 1
   FresnelParams f = fresnel_curve_default();
   f.facing = 1.0f;
@@ -60,135 +33,9 @@ FresnelParams fresnel_one() {  // F == 1 at every angle: facing = perpendicular 
   return f;
 }
 
-const char* brdf_name(uint b) {
-  switch (b) {
-    case AW_BRDF_BECKMANN: return "beckmann";
-    case AW_BRDF_GGX: return "ggx";
-    case AW_BRDF_ASHIKHMIN_SHIRLEY: return "ashikhmin_shirley";
-    default: return "ashikhmin_shirley_legacy";
-  }
-}
-
-LobeFns reflection_fns(ReflectionParams p) {
-  return LobeFns{[p](float3 wo, float3 wi) { return lobe_reflection_eval(p, wo, wi); },
-                 [p](float3 wo, float3 wi) { return lobe_reflection_pdf(p, wo, wi); },
-                 [p](float3 wo, float2 u) { return lobe_reflection_sample(p, wo, u); }};
-}
-
 ReflectionParams make_params(uint brdf, float gloss, float aniso, FresnelParams f,
                              float3 tint = make_float3(1.0f, 1.0f, 1.0f)) {
   return reflection_params_make(tint, brdf, gloss, aniso, f);
-}
-
-// ---- chi-square of narrow lobes through a zoom -----------------------------------------------
-// The harness bins the whole sphere in cells of a few degrees; a lobe of roughness 0.01 lives
-// inside one or two of them, where the test says little and the per-cell quadrature can step
-// over the peak. Goodness of fit is invariant under a bijection of the sphere, so narrow lobes
-// are tested through a zoom about the mirror direction m: in a frame with +z = m, the
-// stereographic radius r = tan(theta / 2) is scaled by k (tan(theta'' / 2) = k tan(theta / 2),
-// phi unchanged). Samples are mapped forward; the density transforms with the area ratio
-//   dOmega'' / dOmega = k^2 (1 + r^2)^2 / (1 + k^2 r^2)^2
-// (the sphere's area element in stereographic coordinates is 4 r dr dphi / (1 + r^2)^2).
-struct Zoom {
-  double t[3], b[3], m[3];
-  double k;
-};
-
-inline Zoom make_zoom(float3 center, double k) {
-  Zoom z;
-  double m[3] = {center.x, center.y, center.z};
-  double len = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-  for (double& c : m) c /= len;
-  double a[3] = {std::fabs(m[0]) < 0.9 ? 1.0 : 0.0, std::fabs(m[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-  double d = a[0] * m[0] + a[1] * m[1] + a[2] * m[2];
-  double t[3] = {a[0] - d * m[0], a[1] - d * m[1], a[2] - d * m[2]};
-  double tl = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-  for (double& c : t) c /= tl;
-  double b[3] = {m[1] * t[2] - m[2] * t[1], m[2] * t[0] - m[0] * t[2], m[0] * t[1] - m[1] * t[0]};
-  for (int i = 0; i < 3; ++i) {
-    z.t[i] = t[i];
-    z.b[i] = b[i];
-    z.m[i] = m[i];
-  }
-  z.k = k;
-  return z;
-}
-
-// Radius scaling on the unit sphere in local coordinates (x, y, zc): r = sin / (1 + cos).
-inline void zoom_scale(double x, double y, double zc, double k, double out[3], double* r_in) {
-  double s = std::sqrt(x * x + y * y);
-  double r = zc > -1.0 ? s / (1.0 + zc) : 1e300;
-  *r_in = r;
-  double r2 = std::min(k * r, 1e150);
-  double cs = (1.0 - r2 * r2) / (1.0 + r2 * r2), sn = 2.0 * r2 / (1.0 + r2 * r2);
-  double cp = s > 0.0 ? x / s : 1.0, sp = s > 0.0 ? y / s : 0.0;
-  out[0] = sn * cp;
-  out[1] = sn * sp;
-  out[2] = cs;
-}
-
-// world direction -> zoomed direction (coordinates in the zoom frame, +z = m)
-inline float3 zoom_forward(const Zoom& z, float3 w, double* area_ratio) {
-  double x = w.x * z.t[0] + w.y * z.t[1] + w.z * z.t[2];
-  double y = w.x * z.b[0] + w.y * z.b[1] + w.z * z.b[2];
-  double c = w.x * z.m[0] + w.y * z.m[1] + w.z * z.m[2];
-  double n = std::sqrt(x * x + y * y + c * c);
-  double o[3], r;
-  zoom_scale(x / n, y / n, c / n, z.k, o, &r);
-  double q = (1.0 + r * r) / (1.0 + z.k * z.k * r * r);
-  *area_ratio = z.k * z.k * q * q;  // dOmega'' / dOmega
-  return make_float3(float(o[0]), float(o[1]), float(o[2]));
-}
-
-// zoomed direction -> world direction
-inline float3 zoom_inverse(const Zoom& z, float3 w, double* area_ratio) {
-  double o[3], r2;
-  double n = std::sqrt(double(w.x) * w.x + double(w.y) * w.y + double(w.z) * w.z);
-  zoom_scale(w.x / n, w.y / n, w.z / n, 1.0 / z.k, o, &r2);
-  double r = r2 / z.k;
-  double q = (1.0 + r * r) / (1.0 + z.k * z.k * r * r);
-  *area_ratio = z.k * z.k * q * q;
-  double v[3];
-  for (int i = 0; i < 3; ++i) v[i] = o[0] * z.t[i] + o[1] * z.b[i] + o[2] * z.m[i];
-  return make_float3(float(v[0]), float(v[1]), float(v[2]));
-}
-
-// The lobe seen through the zoom (eval is not used by the chi-square test).
-inline LobeFns zoomed(const LobeFns& f, float3 wo, const Zoom& z) {
-  return LobeFns{f.eval,
-                 [f, wo, z](float3, float3 w) {
-                   double ratio;
-                   float3 wi = zoom_inverse(z, w, &ratio);
-                   return float(double(f.pdf(wo, wi)) / ratio);
-                 },
-                 [f, wo, z](float3, float2 u) {
-                   LobeSample s = f.sample(wo, u);
-                   if (s.flags == 0u || (s.flags & AW_LOBE_SPECULAR)) return s;
-                   double ratio;
-                   s.wi = zoom_forward(z, s.wi, &ratio);
-                   s.pdf = float(double(s.pdf) / ratio);
-                   return s;
-                 }};
-}
-
-// The narrowest roughness of a reflection lobe (the equivalent alpha sqrt(2 / (n + 2)) of the
-// largest Ashikhmin–Shirley exponent).
-inline float narrowest_alpha(const ReflectionParams& p) {
-  if (reflection_is_as(p)) return std::sqrt(2.0f / (std::max(p.as_nu, p.as_nv) + 2.0f));
-  return std::min(p.mf.ax, p.mf.ay);
-}
-
-// Chi-square of a reflection lobe; lobes narrower than alpha 0.05 go through a zoom of
-// k = 0.2 / alpha about the mirror direction (the narrow axis then spans ~20 deg).
-inline ChiSquareResult reflection_chi_square(const ReflectionParams& p, float3 wo, ChiSquareConfig cfg) {
-  LobeFns f{[p](float3 a, float3 b) { return lobe_reflection_eval(p, a, b); },
-            [p](float3 a, float3 b) { return lobe_reflection_pdf(p, a, b); },
-            [p](float3 a, float2 u) { return lobe_reflection_sample(p, a, u); }};
-  float alpha = narrowest_alpha(p);
-  if (alpha >= 0.05f) return run_chi_square(f, wo, cfg);
-  cfg.bin_in_theta = true;
-  Zoom z = make_zoom(make_float3(-wo.x, -wo.y, wo.z), 0.2 / double(alpha));
-  return run_chi_square(zoomed(f, wo, z), wo, cfg);
 }
 
 std::string describe_case(uint brdf, float gloss, float aniso, double theta) {
@@ -444,23 +291,23 @@ TEST(Reflection, ChiSquareRepresentative) {
 // The zoom used for narrow lobes is a bijection (round trip) whose area ratio integrates to
 // the sphere's area, so the zoomed density of a lobe integrates to what the lobe's does.
 TEST(Reflection, ZoomIsABijectionWithTheRightJacobian) {
-  Zoom z = make_zoom(direction_from_theta_deg(70.0, 200.0), 25.0);
+  MirrorZoom z = make_mirror_zoom(direction_from_theta_deg(70.0, 200.0), 25.0);
   Uniform uni(5);
   for (int i = 0; i < 1000; ++i) {
     float3 w = uniform_sphere(uni.next2());
     double r1, r2;
-    float3 back = zoom_inverse(z, zoom_forward(z, w, &r1), &r2);
+    float3 back = mirror_zoom_inverse(z, mirror_zoom_forward(z, w, &r1), &r2);
     EXPECT_LT(length(back - w), 1e-5f) << fmt3(w);
     EXPECT_NEAR(r1 / r2, 1.0, 1e-6);
   }
   // integral over the zoomed sphere of dOmega / dOmega'' = 4 pi
   double total = integrate_hemisphere([&](float3 w) {
     double r;
-    zoom_inverse(z, w, &r);
+    mirror_zoom_inverse(z, w, &r);
     return 1.0 / r;
   }) + integrate_hemisphere([&](float3 w) {
     double r;
-    zoom_inverse(z, make_float3(w.x, w.y, -w.z), &r);
+    mirror_zoom_inverse(z, make_float3(w.x, w.y, -w.z), &r);
     return 1.0 / r;
   });
   EXPECT_NEAR(total / (4.0 * kPi), 1.0, 1e-3);

@@ -99,7 +99,9 @@ TEST(MaterialFurnace, LosslessConfigurationsGiveOne) {
     for (float c : {1.0f, 0.9f, 0.5f /* past the critical angle of 1/1.5 */, 0.1f}) {
       Albedo a = furnace(m, c, 200000, 9, /*entering=*/0);
       EXPECT_LE(a.mean, 1.0 + 4.0 * a.stderr_ + 1e-4) << "inside glass at cos " << c;
-      if (c < 0.74f) EXPECT_NEAR(a.mean, 1.0, 1e-5) << "total internal reflection at cos " << c;
+      if (c < 0.74f) {
+        EXPECT_NEAR(a.mean, 1.0, 1e-5) << "total internal reflection at cos " << c;
+      }
     }
   }
   {  // perfect mirror (curve 1/1)
