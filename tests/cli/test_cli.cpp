@@ -21,6 +21,17 @@ namespace {
 
 std::string src(const std::string& rel) { return std::string(ARCHWAVE_SOURCE_DIR) + "/" + rel; }
 
+// ctest runs each test as its own process, several at once: every file a test writes lives
+// in a directory of its own process.
+std::string scratch() {
+  static const std::string dir = [] {
+    std::string d = testing::TempDir() + "/archwave_cli_" + std::to_string(getpid());
+    fs::create_directories(d);
+    return d;
+  }();
+  return dir;
+}
+
 struct CliRun {
   int code;
   std::string err;
@@ -28,7 +39,7 @@ struct CliRun {
 
 // Runs archwave with `args`, capturing stderr; returns the exit code.
 CliRun run(const std::string& args) {
-  std::string errfile = testing::TempDir() + "/archwave_stderr.txt";
+  std::string errfile = scratch() + "/archwave_stderr.txt";
   std::string cmd = std::string(ARCHWAVE_BINARY) + " " + args + " 2>" + errfile + " >/dev/null";
   int status = std::system(cmd.c_str());
   std::ifstream in(errfile);
@@ -37,7 +48,7 @@ CliRun run(const std::string& args) {
 }
 
 std::string write_scene(const std::string& name, const std::string& json) {
-  std::string dir = testing::TempDir() + "/cli_scenes";
+  std::string dir = scratch() + "/cli_scenes";
   fs::create_directories(dir);
   std::string p = dir + "/" + name;
   std::ofstream(p) << json;
@@ -78,7 +89,7 @@ const BadCase kBad[] = {
 TEST(CliBadInput, EachMalformedSceneFailsWithItsMessageAndWritesNothing) {
   for (const BadCase& c : kBad) {
     std::string scene = write_scene(c.name, c.json);
-    std::string out = testing::TempDir() + "/should_not_exist.exr";
+    std::string out = scratch() + "/should_not_exist.exr";
     fs::remove(out);
     CliRun r = run(scene + " -o " + out);
     EXPECT_EQ(r.code, 3) << c.name << ": " << r.err;
@@ -90,7 +101,7 @@ TEST(CliBadInput, EachMalformedSceneFailsWithItsMessageAndWritesNothing) {
 }
 
 TEST(CliBadInput, MissingSceneFileNamesThePath) {
-  CliRun r = run(src("scenes/does_not_exist.json") + " -o " + testing::TempDir() + "/x.exr");
+  CliRun r = run(src("scenes/does_not_exist.json") + " -o " + scratch() + "/x.exr");
   EXPECT_EQ(r.code, 3);
   EXPECT_NE(r.err.find("does_not_exist.json"), std::string::npos) << r.err;
 }
@@ -98,7 +109,7 @@ TEST(CliBadInput, MissingSceneFileNamesThePath) {
 TEST(CliBadInput, FlagsAreValidatedLikeSceneKeys) {
   std::string scene = write_scene("ok.json", kMinimal);
   for (const char* flags : {"--spp -1", "--spp 0", "--width 0", "--height -3", "--spp many", "-D render.gi=7"}) {
-    CliRun r = run(scene + " -o " + testing::TempDir() + "/x.exr " + flags);
+    CliRun r = run(scene + " -o " + scratch() + "/x.exr " + flags);
     EXPECT_EQ(r.code, 3) << flags << ": " << r.err;
     EXPECT_NE(r.err.find("command line"), std::string::npos) << flags << ": " << r.err;
   }
@@ -111,7 +122,7 @@ TEST(CliBadInput, UnknownFlagIsAUsageError) {
 
 TEST(CliBadInput, BadDeviceIndexListsDevices) {
   std::string scene = write_scene("ok.json", kMinimal);
-  CliRun r = run(scene + " --device 99 -o " + testing::TempDir() + "/x.exr");
+  CliRun r = run(scene + " --device 99 -o " + scratch() + "/x.exr");
   EXPECT_EQ(r.code, 4) << r.err;
   EXPECT_NE(r.err.find("--device 99"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("[0]"), std::string::npos) << "the message should list the devices: " << r.err;
@@ -125,7 +136,7 @@ TEST(CliBadInput, UnwritableOutputFailsBeforeRendering) {
 }
 
 TEST(Cli, HelpDocumentsEveryFlag) {
-  std::string out = testing::TempDir() + "/help.txt";
+  std::string out = scratch() + "/help.txt";
   int status = std::system((std::string(ARCHWAVE_BINARY) + " --help >" + out).c_str());
   EXPECT_EQ(WEXITSTATUS(status), 0);
   std::ifstream in(out);
@@ -142,10 +153,10 @@ TEST(Cli, ListDevicesShowsPoCL) {
 
 TEST(Cli, RenderWritesExrAndPngWithHeader) {
   std::string scene = write_scene("ok.json", kMinimal);
-  std::string out = testing::TempDir() + "/ok.exr";
+  std::string out = scratch() + "/ok.exr";
   CliRun r = run(scene + " --spp 2 --seed 5 -o " + out);
   ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_TRUE(fs::exists(testing::TempDir() + "/ok.png"));
+  EXPECT_TRUE(fs::exists(scratch() + "/ok.png"));
   aw::Image img = aw::read_exr(out);
   EXPECT_EQ(img.width, 8);
   EXPECT_EQ(img.int_attrs["spp"], 2);
@@ -162,13 +173,13 @@ TEST(Cli, RenderWritesExrAndPngWithHeader) {
 TEST(Cli, InterruptKeepsWhatWasRendered) {
   // Fill the kernel cache first, so the interrupt lands while rendering, not while compiling
   // (a cold build takes seconds on a loaded machine).
-  ASSERT_EQ(run(src("scenes/cornell.json") + " --spp 1 --width 8 --height 8 -o " + testing::TempDir() + "/warm.exr").code, 0);
-  std::string out = testing::TempDir() + "/interrupted.exr";
+  ASSERT_EQ(run(src("scenes/cornell.json") + " --spp 1 --width 8 --height 8 -o " + scratch() + "/warm.exr").code, 0);
+  std::string out = scratch() + "/interrupted.exr";
   fs::remove(out);
   pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
-    std::string errf = testing::TempDir() + "/interrupted_stderr.txt";
+    std::string errf = scratch() + "/interrupted_stderr.txt";
     freopen(errf.c_str(), "w", stderr);
     execl(ARCHWAVE_BINARY, ARCHWAVE_BINARY, src("scenes/cornell.json").c_str(), "--spp", "100000", "--width", "64",
           "--height", "64", "-o", out.c_str(), (char*)nullptr);

@@ -2,6 +2,8 @@
 // the right answer is exact: a constant environment seen through or reflected by one object.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -21,7 +23,8 @@ std::string write_scene(const std::string& materials, const std::string& objects
   "objects": [)" + objects + R"(])" + extra + R"(
 })";
   static int n = 0;
-  std::string path = testing::TempDir() + "/documented_" + std::to_string(n++) + ".json";
+  // Unique per process: ctest runs test cases as parallel processes.
+  std::string path = testing::TempDir() + "/documented_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
   std::ofstream(path) << json;
   return path;
 }

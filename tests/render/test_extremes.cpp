@@ -4,6 +4,8 @@
 // path_result must not be what keeps the image clean). Both renderers.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <fstream>
 #include <string>
@@ -38,7 +40,8 @@ std::string scene_for(const std::string& material) {
   ]
 })";
   static int n = 0;
-  std::string path = testing::TempDir() + "/extreme_" + std::to_string(n++) + ".json";
+  // Unique per process: ctest runs test cases as parallel processes.
+  std::string path = testing::TempDir() + "/extreme_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
   std::ofstream(path) << json;
   return path;
 }

@@ -17,6 +17,8 @@
 // E by < 0.01%.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -41,7 +43,8 @@ std::string scene_with(const std::string& light_json, const std::string& render_
                  "material": "white" } ]
 })";
   static int n = 0;
-  std::string path = testing::TempDir() + "/light_scene_" + std::to_string(n++) + ".json";
+  // Unique per process: ctest runs test cases as parallel processes.
+  std::string path = testing::TempDir() + "/light_scene_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
   std::ofstream(path) << json;
   return path;
 }

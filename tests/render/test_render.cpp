@@ -2,6 +2,8 @@
 // the host scalar path (same kernel headers, Embree rays).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -133,7 +135,8 @@ TEST(Determinism, DifferentSeedsDiffer) {
 // Also through the CLI and the EXR file: the written file is bit-identical.
 TEST(Determinism, ExrFilesBitIdentical) {
   std::string bin = ARCHWAVE_BINARY;
-  std::string dir = testing::TempDir();
+  std::string dir = testing::TempDir() + "/det_" + std::to_string(getpid());
+  std::system(("mkdir -p " + dir).c_str());
   auto run = [&](const std::string& out, const std::string& extra) {
     std::string cmd = bin + " " + src("scenes/cornell.json") + " --width 48 --height 48 --spp 4 -q -o " + out + " " +
                       extra + " 2>/dev/null";
