@@ -68,11 +68,15 @@ int main(int argc, char** argv) {
     };
     row("wavefront (OpenCL)", w, tw);
     row("scalar (host, Embree)", s, ts);
-    t << "\nWavefront stages:\n\n| stage | time (s) | share |\n|---|---|---|\n";
+    t << "\nWavefront stages (one shading kernel per lobe; items = paths, pixels for film_accumulate):\n\n"
+         "| stage | time (s) | share | items | M items/s |\n|---|---|---|---|---|\n";
     double sum = 0.0;
     for (auto& st : w.stats.stage_seconds) sum += st.second;
-    for (auto& st : w.stats.stage_seconds) {
-      std::snprintf(buf, sizeof buf, "| %s | %.3f | %.1f%% |\n", st.first.c_str(), st.second, 100.0 * st.second / sum);
+    for (size_t i = 0; i < w.stats.stage_seconds.size(); ++i) {
+      const auto& st = w.stats.stage_seconds[i];
+      uint64_t items = i < w.stats.stage_items.size() ? w.stats.stage_items[i] : 0;
+      std::snprintf(buf, sizeof buf, "| %s | %.3f | %.1f%% | %llu | %.2f |\n", st.first.c_str(), st.second,
+                    100.0 * st.second / sum, (unsigned long long)items, double(items) / st.second * 1e-6);
       t << buf;
     }
     std::snprintf(buf, sizeof buf, "\nPath pool: %.1f MiB (%zu bytes per path state).\n",

@@ -47,10 +47,17 @@ std::string RenderStats::summary() const {
   s << buf;
   double traced = 0.0;
   for (const auto& st : stage_seconds) traced += st.second;
-  for (const auto& st : stage_seconds) {
-    std::snprintf(buf, sizeof buf, "  %-22s %9.3f s  %5.1f%%\n", st.first.c_str(), st.second,
+  for (size_t i = 0; i < stage_seconds.size(); ++i) {
+    const auto& st = stage_seconds[i];
+    std::snprintf(buf, sizeof buf, "  %-22s %9.3f s  %5.1f%%", st.first.c_str(), st.second,
                   traced > 0 ? 100.0 * st.second / traced : 0.0);
     s << buf;
+    if (i < stage_items.size() && st.second > 0.0) {
+      std::snprintf(buf, sizeof buf, "  %10llu items  %8.2f M/s", (unsigned long long)stage_items[i],
+                    double(stage_items[i]) / st.second * 1e-6);
+      s << buf;
+    }
+    s << "\n";
   }
   double secs = std::max(1e-9, total_seconds - compile_seconds - bvh_seconds);
   std::snprintf(buf, sizeof buf, "rays            %llu closest + %llu shadow = %.3f Mrays/s\n",

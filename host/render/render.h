@@ -33,6 +33,7 @@ struct RenderStats {
   double compile_seconds = 0.0;
   std::string kernel_features;  // "generic" or the specialised feature list
   std::vector<std::pair<std::string, double>> stage_seconds;  // in pipeline order
+  std::vector<uint64_t> stage_items;  // paths (or pixels) each stage processed, same order
   uint64_t closest_rays = 0;
   uint64_t shadow_rays = 0;
   uint64_t samples = 0;  // completed (pixel, sample) pairs

@@ -54,6 +54,7 @@ struct Stage {
   const char* name;
   cl::Kernel kernel;
   double seconds = 0.0;
+  uint64_t items = 0;  // paths (pixels for film_accumulate) processed: throughput per stage
 };
 
 }  // namespace
@@ -199,6 +200,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
       if (counts) pull_counters();
       else q.finish();
       s.seconds += since(t0);
+      s.items += n;
     };
 
     ProgressLine progress("rendering", total_jobs, opts.progress);
@@ -278,7 +280,10 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
                              st.kernel_features + "); the image would be wrong, so none is written. "
                              "--generic-kernels renders it; please report this scene");
     for (Stage* s : all)
-      if (s->seconds > 0.0) st.stage_seconds.emplace_back(s->name, s->seconds);
+      if (s->seconds > 0.0) {
+        st.stage_seconds.emplace_back(s->name, s->seconds);
+        st.stage_items.push_back(s->items);
+      }
   } catch (const cl::Error& e) {
     throw ClError(std::string("OpenCL error while rendering on ") + rt.info().name + ": " + e.what() + " (" +
                   cl_error_name(e.err()) + ")");
