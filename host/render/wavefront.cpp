@@ -152,6 +152,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     Stage shadow = make("intersect_shadow", "intersect_shadow");
     shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues);
     shadow.kernel.setArg(5, nodes); shadow.kernel.setArg(6, tris); shadow.kernel.setArg(7, lights);
+    shadow.kernel.setArg(8, tri_info); shadow.kernel.setArg(9, materials);
     Stage accum = make("accumulate", "accumulate");
     accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues);
     accum.kernel.setArg(4, counters); accum.kernel.setArg(6, samples); accum.kernel.setArg(7, stats);

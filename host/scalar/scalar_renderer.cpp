@@ -5,12 +5,14 @@
 // It consumes the same random numbers and sums each pixel's samples in the same order as
 // film_accumulate, so the two images agree pixel by pixel, not only on average.
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <chrono>
 #include <thread>
 
 #include "host/bvh/flat_bvh.h"
 #include "host/film/progress.h"
+#include "host/render/features.h"
 #include "host/render/render.h"
 #include "host/render/scene_pack.h"
 #include "kernels/integrator/accumulate.h"
@@ -39,6 +41,8 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   st.bvh_seconds = since(t_bvh);
 
   const RenderParams base = packed.params;
+  // Cutout surfaces let shadow rays through: step with closest hits only when there are any.
+  const bool cutouts = derive_features(packed).on[FeatureSet::CUTOUT];
   const uint32_t npix = base.width * base.height;
   const uint32_t spp = uint32_t(scene.render.spp);
   res.width = int(base.width);
@@ -82,10 +86,12 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
           generate_camera_ray(ps, &rp, 0u);
           for (;;) {
             float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
-            EmbreeScene::Hit h = escene.intersect(o, d, 0.0f, FLT_MAX);
+            // Embree's t_near is inclusive, the kernels' t_min exclusive (see classify_hit).
+            float tmin = PS_F(ps, ray_tmin);
+            EmbreeScene::Hit h = escene.intersect(o, d, tmin > 0.0f ? std::nextafter(tmin, FLT_MAX) : 0.0f, FLT_MAX);
             ++n_closest;
             float t = h.t;
-            int light = lights_intersect(sc.lights, rp.num_lights, o, d, 0.0f, &t, PS_U(ps, bounce) == 0u, -1);
+            int light = lights_intersect(sc.lights, rp.num_lights, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
             if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, uint32_t(light));
             else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? uint32_t(h.prim) : AW_NONE, AW_NONE);
             int next = classify_hit(ps, sc, &rp);
@@ -96,7 +102,24 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
               ++n_shadow;
               float3 so = ps_shadow_origin(ps), sd = ps_shadow_dir(ps);
               float tmax = PS_F(ps, sh_tmax);
-              bool occ = escene.occluded(so, sd, 0.0f, tmax);
+              bool occ;
+              if (!cutouts) {
+                occ = escene.occluded(so, sd, 0.0f, tmax);
+              } else {
+                // Same steps as intersect_shadow; Embree's t_near is inclusive, ours exclusive,
+                // hence the next float after the surface passed.
+                occ = false;
+                float t0 = 0.0f;
+                for (int k = 0; k < AW_SHADOW_CUTOUT_STEPS; ++k) {
+                  EmbreeScene::Hit sh = escene.intersect(so, sd, k == 0 ? 0.0f : std::nextafter(t0, FLT_MAX), tmax);
+                  if (sh.prim < 0) break;
+                  if (!surface_is_cutout(sc, uint32_t(sh.prim)) || k == AW_SHADOW_CUTOUT_STEPS - 1) {
+                    occ = true;
+                    break;
+                  }
+                  t0 = sh.t;
+                }
+              }
               if (!occ) {
                 float tl = tmax;
                 occ = lights_intersect(sc.lights, rp.num_lights, so, sd, 0.0f, &tl, 0, int(PS_U(ps, sh_light))) >= 0;

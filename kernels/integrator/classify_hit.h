@@ -118,11 +118,13 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
     return AW_Q_DONE;
   }
 
-  // Cutout: below 0.5 opacity the surface is not there; the ray goes on unchanged
-  // (MATERIAL.md §1). Shadow rays do not see cutouts yet (they are opaque to light).
+  // Cutout: below 0.5 opacity the surface is not there (MATERIAL.md §1): the SAME ray goes
+  // on beyond it (t_min = this hit; the traversal accepts t > t_min only), so a light it
+  // then finds is MIS-weighted from the true origin. Shadow rays step through cutouts too
+  // (shade_shadow.h).
 #if AW_FEAT_CUTOUT
   if (m->cutout_opacity < 0.5f) {
-    ps_set_ray(ps, offset_ray_origin(p, -ng), dir);
+    PS_F(ps, ray_tmin) = PS_F(ps, hit_t);
     return AW_Q_PASS;
   }
 #endif

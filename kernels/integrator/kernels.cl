@@ -81,9 +81,10 @@ void intersect_closest(const RenderParams rp, __global float* sf, __global uint*
   if (i >= count) return;
   AW_PATH_REF(AW_QUEUE(AW_Q_RAY)[i]);
   float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
-  TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, 0.0f, FLT_MAX, 0);
+  float tmin = PS_F(ps, ray_tmin);
+  TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, tmin, FLT_MAX, 0);
   float t = h.t;
-  int light = lights_intersect(lights, rp.num_lights, o, d, 0.0f, &t, PS_U(ps, bounce) == 0u, -1);
+  int light = lights_intersect(lights, rp.num_lights, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
   if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, (uint)light);
   else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? (uint)h.prim : AW_NONE, AW_NONE);
 }
@@ -154,13 +155,33 @@ AW_SHADE_KERNEL(shade_refraction, AW_LID_REFRACTION)
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
                       uint count, __global const float4* nodes, __global const float4* tris,
-                      __global const LightGpu* lights) {
+                      __global const LightGpu* lights, __global const TriangleInfo* tri_info,
+                      __global const MaterialGpu* materials) {
   uint i = get_global_id(0);
   if (i >= count) return;
   AW_PATH_REF(AW_QUEUE(AW_Q_SHADOW)[i]);
   float3 o = ps_shadow_origin(ps), d = ps_shadow_dir(ps);
   float tmax = PS_F(ps, sh_tmax);
+#if AW_FEAT_CUTOUT
+  // Step through cutout surfaces with closest hits (the traversal accepts t > t_min only, so
+  // each step starts strictly beyond the surface it passed).
+  SceneRef sc;
+  sc.tri_info = tri_info;
+  sc.materials = materials;
+  int occluded = 0;
+  float t0 = 0.0f;
+  for (int k = 0; k < AW_SHADOW_CUTOUT_STEPS; ++k) {
+    TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, t0, tmax, 0);
+    if (h.prim < 0) break;
+    if (!surface_is_cutout(sc, (uint)h.prim) || k == AW_SHADOW_CUTOUT_STEPS - 1) {
+      occluded = 1;
+      break;
+    }
+    t0 = h.t;
+  }
+#else
   int occluded = bvh_intersect(nodes, rp.num_nodes, tris, o, d, 0.0f, tmax, 1).prim >= 0;
+#endif
   if (!occluded) {
     float t = tmax;
     occluded = lights_intersect(lights, rp.num_lights, o, d, 0.0f, &t, 0, (int)PS_U(ps, sh_light)) >= 0;

@@ -46,6 +46,7 @@ AW_FN float3 ps_ray_dir(PathRef ps) { return make_float3(PS_F(ps, ray_dx), PS_F(
 AW_FN void ps_set_ray(PathRef ps, float3 o, float3 d) {
   PS_F(ps, ray_ox) = o.x; PS_F(ps, ray_oy) = o.y; PS_F(ps, ray_oz) = o.z;
   PS_F(ps, ray_dx) = d.x; PS_F(ps, ray_dy) = d.y; PS_F(ps, ray_dz) = d.z;
+  PS_F(ps, ray_tmin) = 0.0f;
 }
 AW_FN float3 ps_throughput(PathRef ps) { return make_float3(PS_F(ps, thr_r), PS_F(ps, thr_g), PS_F(ps, thr_b)); }
 AW_FN void ps_set_throughput(PathRef ps, float3 t) { PS_F(ps, thr_r) = t.x; PS_F(ps, thr_g) = t.y; PS_F(ps, thr_b) = t.z; }

@@ -8,6 +8,7 @@
 /* The ray the path will trace next (extension ray). */
 AW_STATE_F(ray_ox) AW_STATE_F(ray_oy) AW_STATE_F(ray_oz)
 AW_STATE_F(ray_dx) AW_STATE_F(ray_dy) AW_STATE_F(ray_dz)
+AW_STATE_F(ray_tmin)  /* > 0 only after passing a cutout: the same ray continues beyond it */
 /* Path throughput and the radiance gathered so far. */
 AW_STATE_F(thr_r) AW_STATE_F(thr_g) AW_STATE_F(thr_b)
 AW_STATE_F(rad_r) AW_STATE_F(rad_g) AW_STATE_F(rad_b)

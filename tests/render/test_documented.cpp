@@ -121,6 +121,45 @@ TEST(Documented, FogEndColourTransmitsPowerOfDistance) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(px(*res, 16, 16, c) / expect[c], 1.0, 2e-3) << "channel " << c;
 }
 
+// Cutout opacity < 0.5: the surface is not there, for every kind of ray (MATERIAL.md §1). A
+// cutout sheet between a light and the floor changes nothing: shadow rays step through it and
+// BSDF-sampled rays that find the light through it are MIS-weighted from their true origin.
+TEST(Documented, CutoutSurfaceIsNotThereForAnyRay) {
+  auto scene = [](bool with_sheet) {
+    std::string json = R"({
+  "render": { "width": 24, "height": 16, "spp": 64, "seed": 4, "max_depth": 3 },
+  "camera": { "position": [0, 0.4, 4], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 30 },
+  "lights": [ { "type": "quad", "corner": [-1, 2, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "intensity": 3 } ],
+  "materials": { "floor": { "diffuse": { "color": [0.8, 0.8, 0.8] }, "reflection": { "weight": 0 } },
+                 "sheet": { "diffuse": { "color": [0.1, 0.1, 0.1] }, "reflection": { "weight": 0 }, "cutout_opacity": 0.3 } },
+  "objects": [ { "shape": "quad", "corner": [-5, 0, 5], "edge_u": [10, 0, 0], "edge_v": [0, 0, -10], "material": "floor" })" +
+                       std::string(with_sheet ? R"(,
+               { "shape": "quad", "corner": [-3, 1, 3], "edge_u": [6, 0, 0], "edge_v": [0, 0, -6], "material": "sheet" })" : "") +
+                       R"( ]
+})";
+    static int n = 0;
+    std::string path = testing::TempDir() + "/cutout_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
+    std::ofstream(path) << json;
+    return path;
+  };
+  Rendered open = render_both(scene(false)), sheet = render_both(scene(true));
+  for (int which = 0; which < 2; ++which) {
+    const aw::RenderResult& a = which ? open.scalar : open.wave;
+    const aw::RenderResult& b = which ? sheet.scalar : sheet.wave;
+    ASSERT_EQ(a.sum.size(), b.sum.size());
+    double sa = 0.0, sb = 0.0;
+    for (size_t i = 0; i < a.sum.size(); ++i) {
+      sa += a.sum[i];
+      sb += b.sum[i];
+      ASSERT_NEAR(a.sum[i], b.sum[i], 1e-5f * std::max(1.0f, a.sum[i])) << (which ? "scalar" : "wavefront") << " at " << i;
+    }
+    EXPECT_GT(sa, 0.0);
+  }
+  aw::ImageDiff d = aw::compare_images(aw::Image{sheet.wave.width, sheet.wave.height, sheet.wave.sum, {}, {}},
+                                       aw::Image{sheet.scalar.width, sheet.scalar.height, sheet.scalar.sum, {}, {}}, 1e-3, 1e-4);
+  EXPECT_GE(d.frac_pixels_within, 0.99);
+}
+
 // Kernel vs scalar on a scene that uses every lobe (the material issue's equivalence test).
 TEST(Documented, EveryLobeSceneKernelMatchesScalar) {
   aw::Scene s = aw::load_scene(std::string(ARCHWAVE_SOURCE_DIR) + "/scenes/materials.json",
