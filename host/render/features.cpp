@@ -2,6 +2,8 @@
 
 #include <cctype>
 
+#include "kernels/material/architectural.h"
+
 namespace aw {
 
 FeatureSet FeatureSet::all() {
@@ -48,22 +50,18 @@ bool FeatureSet::lobe(uint32_t lid) const {
 
 FeatureSet derive_features(const PackedScene& scene) {
   FeatureSet f;
-  auto positive = [](const float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; };
-  for (const MaterialGpu& m : scene.materials) {
-    bool refl = false;
-    for (const ReflectionGpu& r : m.refl) refl |= r.weight > 0.0f && positive(r.color);
-    bool transmit = m.refr_weight > 0.0f;
-    bool transl = transmit && (m.flags & AW_MAT_TRANSLUCENCY) && m.transl_weight > 0.0f;
-    bool refr = transmit && !(transl && m.transl_weight >= 1.0f);
-    f.on[FeatureSet::REFLECTION] |= refl;
-    f.on[FeatureSet::TRANSLUCENCY] |= transl;
-    f.on[FeatureSet::REFRACTION] |= refr;
-    f.on[FeatureSet::ROUGH_DIFFUSE] |= m.diffuse_roughness > 0.0f;
-    f.on[FeatureSet::ANISOTROPY] |= refl && m.aniso_amount != 0.0f;
-    f.on[FeatureSet::FOG] |= refr && m.fog_distance > 0.0f;
-    f.on[FeatureSet::CUTOUT] |= m.cutout_opacity < 0.5f;
-    f.on[FeatureSet::INCANDESCENCE] |= positive(m.incandescent);
-  }
+  // The kernels' own definition of what a material uses (AW_FEATBIT_* in list order).
+  static_assert(AW_FEATBIT_TRANSLUCENCY == 1u << FeatureSet::TRANSLUCENCY &&
+                    AW_FEATBIT_REFLECTION == 1u << FeatureSet::REFLECTION &&
+                    AW_FEATBIT_REFRACTION == 1u << FeatureSet::REFRACTION &&
+                    AW_FEATBIT_ROUGH_DIFFUSE == 1u << FeatureSet::ROUGH_DIFFUSE &&
+                    AW_FEATBIT_ANISOTROPY == 1u << FeatureSet::ANISOTROPY && AW_FEATBIT_FOG == 1u << FeatureSet::FOG &&
+                    AW_FEATBIT_CUTOUT == 1u << FeatureSet::CUTOUT &&
+                    AW_FEATBIT_INCANDESCENCE == 1u << FeatureSet::INCANDESCENCE,
+                "feature bits follow AW_FEATURE_LIST");
+  uint32_t used = 0;
+  for (const MaterialGpu& m : scene.materials) used |= material_features(&m);
+  for (int i = 0; i <= FeatureSet::INCANDESCENCE; ++i) f.on[i] = (used >> i) & 1u;
   for (const LightGpu& l : scene.lights) {
     if (l.type == AW_LIGHT_POINT) f.on[FeatureSet::LIGHT_POINT] = true;
     if (l.type == AW_LIGHT_QUAD) f.on[FeatureSet::LIGHT_QUAD] = true;

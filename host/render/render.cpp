@@ -19,10 +19,10 @@ Image RenderResult::image(const Scene& scene) const {
   img.width = width;
   img.height = height;
   img.rgb.resize(sum.size());
+  // Exposure is applied here so the EXR holds radiance x k (SCENE_FORMAT.md, camera).
+  const float k = exposure_scale(scene.camera.exposure);
   for (size_t p = 0; p < count.size(); ++p) {
     float inv = count[p] ? 1.0f / float(count[p]) : 0.0f;
-    // Exposure is applied here so the EXR holds radiance x k (SCENE_FORMAT.md, camera).
-    float k = exposure_scale(scene.camera.exposure);
     for (int c = 0; c < 3; ++c) img.rgb[p * 3 + c] = sum[p * 3 + c] * inv * k;
   }
   img.int_attrs["spp"] = int(min_spp());

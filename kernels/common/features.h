@@ -22,6 +22,22 @@
 #define AW_FEAT_LIGHT_SPHERE 1
 #endif
 
+// One bit per feature, in list order: material_features() (kernels/material/architectural.h)
+// reports what a material uses in these bits, for the host's derivation and the kernels' check.
+#define AW_FEATBIT_TRANSLUCENCY (1u << 0)
+#define AW_FEATBIT_REFLECTION (1u << 1)
+#define AW_FEATBIT_REFRACTION (1u << 2)
+#define AW_FEATBIT_ROUGH_DIFFUSE (1u << 3)
+#define AW_FEATBIT_ANISOTROPY (1u << 4)
+#define AW_FEATBIT_FOG (1u << 5)
+#define AW_FEATBIT_CUTOUT (1u << 6)
+#define AW_FEATBIT_INCANDESCENCE (1u << 7)
+#define AW_FEAT_COMPILED_MATERIAL_MASK                                                           \
+  ((AW_FEAT_TRANSLUCENCY ? AW_FEATBIT_TRANSLUCENCY : 0u) | (AW_FEAT_REFLECTION ? AW_FEATBIT_REFLECTION : 0u) | \
+   (AW_FEAT_REFRACTION ? AW_FEATBIT_REFRACTION : 0u) | (AW_FEAT_ROUGH_DIFFUSE ? AW_FEATBIT_ROUGH_DIFFUSE : 0u) | \
+   (AW_FEAT_ANISOTROPY ? AW_FEATBIT_ANISOTROPY : 0u) | (AW_FEAT_FOG ? AW_FEATBIT_FOG : 0u) |            \
+   (AW_FEAT_CUTOUT ? AW_FEATBIT_CUTOUT : 0u) | (AW_FEAT_INCANDESCENCE ? AW_FEATBIT_INCANDESCENCE : 0u))
+
 // The list, for the host (names in the order of the defines above).
 #define AW_FEATURE_LIST(X)                                                                     \
   X(TRANSLUCENCY) X(REFLECTION) X(REFRACTION) X(ROUGH_DIFFUSE) X(ANISOTROPY) X(FOG) X(CUTOUT) \

@@ -120,20 +120,30 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
 
 AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
 
-// Whether material m uses a feature this build lacks. Mirrors derive_features
-// (host/render/features.cpp) term by term; with every feature on it folds to 0. Checked at
-// every hit, so a specialised build can never silently render a material differently.
-AW_FN int material_uses_missing_feature(const AW_GLOBAL MaterialGpu* m) {
+// The features material m uses, as AW_FEATBIT_* bits. The one definition of "uses": the host
+// ORs it over the scene's materials to choose what to compile (host/render/features.cpp) and
+// every hit checks it against the build, so a specialised build can never silently render a
+// material differently.
+AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
   int refl = (m->refl[0].weight > 0.0f && positive3(m->refl[0].color)) ||
              (m->refl[1].weight > 0.0f && positive3(m->refl[1].color));
   int transmit = m->refr_weight > 0.0f;
   int transl = transmit && (m->flags & AW_MAT_TRANSLUCENCY) && m->transl_weight > 0.0f;
   int refr = transmit && !(transl && m->transl_weight >= 1.0f);
-  return (!AW_FEAT_REFLECTION && refl) || (!AW_FEAT_TRANSLUCENCY && transl) || (!AW_FEAT_REFRACTION && refr) ||
-         (!AW_FEAT_ROUGH_DIFFUSE && m->diffuse_roughness > 0.0f) ||
-         (!AW_FEAT_ANISOTROPY && refl && m->aniso_amount != 0.0f) ||
-         (!AW_FEAT_FOG && refr && m->fog_distance > 0.0f) || (!AW_FEAT_CUTOUT && m->cutout_opacity < 0.5f) ||
-         (!AW_FEAT_INCANDESCENCE && positive3(m->incandescent));
+  uint f = 0u;
+  if (transl) f |= AW_FEATBIT_TRANSLUCENCY;
+  if (refl) f |= AW_FEATBIT_REFLECTION;
+  if (refr) f |= AW_FEATBIT_REFRACTION;
+  if (m->diffuse_roughness > 0.0f) f |= AW_FEATBIT_ROUGH_DIFFUSE;
+  if (refl && m->aniso_amount != 0.0f) f |= AW_FEATBIT_ANISOTROPY;
+  if (refr && m->fog_distance > 0.0f) f |= AW_FEATBIT_FOG;
+  if (m->cutout_opacity < 0.5f) f |= AW_FEATBIT_CUTOUT;
+  if (positive3(m->incandescent)) f |= AW_FEATBIT_INCANDESCENCE;
+  return f;
+}
+
+AW_FN int material_uses_missing_feature(const AW_GLOBAL MaterialGpu* m) {
+  return (material_features(m) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
 }
 
 // Whether this build contains the shading kernel of lobe `lid` (kernels/common/features.h).
