@@ -68,6 +68,8 @@ FeatureSet derive_features(const PackedScene& scene) {
     if (l.type == AW_LIGHT_DISK) f.on[FeatureSet::LIGHT_DISK] = true;
     if (l.type == AW_LIGHT_SPHERE) f.on[FeatureSet::LIGHT_SPHERE] = true;
   }
+  // pack_scene decides whether any lobe splits (render.lobe_splitting and samples vs spp).
+  f.on[FeatureSet::SPLIT] = scene.params.split_spp != 0u;
   return f;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "host/scene/tangents.h"
 #include "kernels/common/sampling.h"
 
 namespace aw {
@@ -131,7 +132,7 @@ MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, const
   g.cutout_opacity = d.cutout_opacity;
   g.aniso_amount = d.anisotropy.amount;
   g.aniso_rotation = d.anisotropy.rotation;
-  g.aniso_orientation = d.anisotropy.orientation == AnisoOrientation::Uv ? 1u : 0u;
+  g.aniso_orientation = d.anisotropy.orientation == AnisoOrientation::Uv ? AW_ANISO_UV : AW_ANISO_TANGENT;
   g.highlight_vs_reflection = d.highlight_vs_reflection;
   if (d.metal) g.flags |= AW_MAT_METAL;
   if (d.refraction.thin_walled) g.flags |= AW_MAT_THIN_WALLED;
@@ -169,6 +170,9 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
     uint32_t base = uint32_t(ps.verts.size());
     bool has_n = m.normals.size() == m.positions.size();
     bool has_uv = m.uvs.size() == m.positions.size();
+    // Mesh tangents for anisotropy.orientation = "tangent" (empty where nothing reads them).
+    std::vector<glm::vec4> tangents;
+    if (m.material < scene.materials.size()) tangents = tangents_for_material(m, scene.materials[m.material]);
     for (size_t i = 0; i < m.positions.size(); ++i) {
       VertexData v;
       std::memset(&v, 0, sizeof(v));
@@ -180,6 +184,10 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
       if (has_uv) {
         v.uv[0] = m.uvs[i].x;
         v.uv[1] = m.uvs[i].y;
+      }
+      if (i < tangents.size()) {
+        put3(v.t, glm::vec3(tangents[i]));
+        v.t[3] = tangents[i].w;
       }
       ps.verts.push_back(v);
       ps.soup.positions.push_back(m.positions[i]);

@@ -21,6 +21,7 @@
 #include "host/render/scene_pack.h"
 #include "kernels/integrator/path_state.h"
 #include "kernels/integrator/queues.h"
+#include "kernels/integrator/split.h"
 
 namespace aw {
 
@@ -100,6 +101,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     cl::Buffer sf = rt.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool * 4);
     cl::Buffer su = rt.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool * 4);
     st.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool * 4;
+    // Lobe splitting's first-hit snapshots (integrator/split.h): only when the scene splits.
+    const bool splits = rp.split_spp != 0u;
+    cl::Buffer snap_f = rt.buffer("lobe-split snapshots (float fields)", splits ? size_t(AW_SNAP_F_COUNT) * pool * 4 : 4);
+    cl::Buffer snap_u = rt.buffer("lobe-split snapshots (uint fields)", splits ? size_t(AW_SNAP_U_COUNT) * pool * 4 : 4);
+    if (splits) st.state_bytes += size_t(AW_SNAP_F_COUNT + AW_SNAP_U_COUNT) * pool * 4;
     st.pool_size = pool;
     // All queues in one buffer: queue i at [i * pool, (i + 1) * pool).
     cl::Buffer queues = rt.buffer("queues", size_t(AW_Q_COUNT) * pool * 4);
@@ -147,7 +153,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
       has_lobe[l] = features.lobe(l);
       shade.push_back(has_lobe[l] ? make(lobe_kernels[l], lobe_kernels[l]) : Stage{lobe_kernels[l], cl::Kernel()});
-      if (has_lobe[l]) shading_args(shade.back());
+      if (has_lobe[l]) {
+        shading_args(shade.back());
+        shade.back().kernel.setArg(10, snap_f);
+        shade.back().kernel.setArg(11, snap_u);
+      }
     }
     Stage shadow = make("intersect_shadow", "intersect_shadow");
     shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues);
@@ -156,6 +166,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     Stage accum = make("accumulate", "accumulate");
     accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues);
     accum.kernel.setArg(4, counters); accum.kernel.setArg(6, samples); accum.kernel.setArg(7, stats);
+    accum.kernel.setArg(8, snap_f); accum.kernel.setArg(9, snap_u);
     Stage filmacc = make("film_accumulate", "film_accumulate");
     filmacc.kernel.setArg(1, samples); filmacc.kernel.setArg(2, film); filmacc.kernel.setArg(3, film_count);
 
@@ -228,7 +239,10 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         }
         cnt[AW_Q_FREE] = 0;  // leftover free slots only remain when no jobs are left
         uint32_t n_ray = cnt[AW_Q_RAY];
-        if (n_ray == 0) {
+        // Lobe queues can be non-empty here: accumulate sends split paths back to them.
+        uint32_t n_lobe = 0;
+        for (uint32_t l = 0; l < AW_LID_COUNT; ++l) n_lobe += cnt[AW_Q_LOBE + l];
+        if (n_ray == 0 && n_lobe == 0) {
           if (next_job >= issue_limit) break;
           // No path in flight and jobs left means slots were lost: a broken scheduling rule.
           throw std::logic_error("wavefront: no path in flight but jobs remain (a stage lost a path)");
@@ -254,7 +268,9 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         cnt[AW_Q_SHADOW] = 0;
         run(accum, cnt[AW_Q_DONE], true);
         cnt[AW_Q_DONE] = 0;
-        progress.update(jobs_done + next_job - cnt[AW_Q_RAY]);
+        uint32_t in_flight = cnt[AW_Q_RAY];
+        for (uint32_t l = 0; l < AW_LID_COUNT; ++l) in_flight += cnt[AW_Q_LOBE + l];
+        progress.update(jobs_done + next_job - std::min(next_job, in_flight));
       }
       rp.job_count = next_job;
       run(filmacc, npix, false);

@@ -20,6 +20,7 @@
 #include "kernels/integrator/generate_camera_ray.h"
 #include "kernels/integrator/shade_surface.h"
 #include "kernels/integrator/shade_shadow.h"
+#include "kernels/integrator/split.h"
 
 namespace aw {
 
@@ -63,9 +64,13 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   auto worker = [&] {
     float sf[AW_SF_COUNT];
     uint32_t su[AW_SU_COUNT];
+    float snap_f[AW_SNAP_F_COUNT];  // lobe splitting's first-hit snapshot (split.h)
+    uint32_t snap_u[AW_SNAP_U_COUNT];
     PathRef ps;
     ps.sf = sf;
     ps.su = su;
+    ps.snap_f = snap_f;
+    ps.snap_u = snap_u;
     ps.pool = 1;
     ps.slot = 0;
     RenderParams rp = base;
@@ -84,53 +89,68 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
           rp.batch_sample = s;
           rp.job_count = 1;
           generate_camera_ray(ps, &rp, 0u);
+          // The wavefront's stages in its order: RAY -> (closest hit, classify) -> LOBE + lid
+          // -> (shade, shadow ray) -> RAY | DONE; DONE -> accumulate, which may send a split
+          // path back to its first-hit lobe (split.h).
+          int next = AW_Q_RAY;
+          float3 l(0.0f);
           for (;;) {
-            float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
-            // Embree's t_near is inclusive, the kernels' t_min exclusive (see classify_hit).
-            float tmin = PS_F(ps, ray_tmin);
-            EmbreeScene::Hit h = escene.intersect(o, d, tmin > 0.0f ? std::nextafter(tmin, FLT_MAX) : 0.0f, FLT_MAX);
-            ++n_closest;
-            float t = h.t;
-            int light = lights_intersect(sc.lights, rp.num_lights, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
-            if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, uint32_t(light));
-            else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? uint32_t(h.prim) : AW_NONE, AW_NONE);
-            int next = classify_hit(ps, sc, &rp);
-            if (next == AW_Q_DONE) break;
-            if (next == AW_Q_PASS) continue;  // cutout: the ray goes on through the surface
-            next = shade_surface(ps, sc, &rp, uint32_t(next - AW_Q_LOBE));
-            if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) {
-              ++n_shadow;
-              float3 so = ps_shadow_origin(ps), sd = ps_shadow_dir(ps);
-              float tmax = PS_F(ps, sh_tmax);
-              bool occ;
-              if (!cutouts) {
-                occ = escene.occluded(so, sd, 0.0f, tmax);
-              } else {
-                // Same steps as intersect_shadow; Embree's t_near is inclusive, ours exclusive,
-                // hence the next float after the surface passed.
-                occ = false;
-                float t0 = 0.0f;
-                for (int k = 0; k < AW_SHADOW_CUTOUT_STEPS; ++k) {
-                  EmbreeScene::Hit sh = escene.intersect(so, sd, k == 0 ? 0.0f : std::nextafter(t0, FLT_MAX), tmax);
-                  if (sh.prim < 0) break;
-                  if (!surface_is_cutout(sc, uint32_t(sh.prim)) || k == AW_SHADOW_CUTOUT_STEPS - 1) {
-                    occ = true;
-                    break;
-                  }
-                  t0 = sh.t;
-                }
-              }
-              if (!occ) {
-                float tl = tmax;
-                occ = lights_intersect(sc.lights, rp.num_lights, so, sd, 0.0f, &tl, 0, int(PS_U(ps, sh_light))) >= 0;
-              }
-              shade_shadow(ps, occ ? 1 : 0);
+            if (next == AW_Q_RAY) {
+              float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
+              // Embree's t_near is inclusive, the kernels' t_min exclusive (see classify_hit).
+              float tmin = PS_F(ps, ray_tmin);
+              EmbreeScene::Hit h = escene.intersect(o, d, tmin > 0.0f ? std::nextafter(tmin, FLT_MAX) : 0.0f, FLT_MAX);
+              ++n_closest;
+              float t = h.t;
+              int light = lights_intersect(sc.lights, rp.num_lights, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
+              if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, uint32_t(light));
+              else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? uint32_t(h.prim) : AW_NONE, AW_NONE);
+              next = classify_hit(ps, sc, &rp);
+              if (next == AW_Q_PASS) next = AW_Q_RAY;  // cutout: the ray goes on through the surface
+              continue;
             }
-            if (next == AW_Q_DONE) break;
+            if (next >= AW_Q_LOBE) {
+              next = shade_surface(ps, sc, &rp, uint32_t(next - AW_Q_LOBE));
+              if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) {
+                ++n_shadow;
+                float3 so = ps_shadow_origin(ps), sd = ps_shadow_dir(ps);
+                float tmax = PS_F(ps, sh_tmax);
+                bool occ;
+                if (!cutouts) {
+                  occ = escene.occluded(so, sd, 0.0f, tmax);
+                } else {
+                  // Same steps as intersect_shadow; Embree's t_near is inclusive, ours
+                  // exclusive, hence the next float after the surface passed.
+                  occ = false;
+                  float t0 = 0.0f;
+                  for (int k = 0; k < AW_SHADOW_CUTOUT_STEPS; ++k) {
+                    EmbreeScene::Hit sh = escene.intersect(so, sd, k == 0 ? 0.0f : std::nextafter(t0, FLT_MAX), tmax);
+                    if (sh.prim < 0) break;
+                    if (!surface_is_cutout(sc, uint32_t(sh.prim)) || k == AW_SHADOW_CUTOUT_STEPS - 1) {
+                      occ = true;
+                      break;
+                    }
+                    t0 = sh.t;
+                  }
+                }
+                if (!occ) {
+                  float tl = tmax;
+                  occ = lights_intersect(sc.lights, rp.num_lights, so, sd, 0.0f, &tl, 0, int(PS_U(ps, sh_light))) >= 0;
+                }
+                shade_shadow(ps, occ ? 1 : 0);
+              }
+              continue;
+            }
+            // DONE: what accumulate does.
+            int bad = 0;
+            l = path_result(ps, &rp, &bad);
+            n_bad += uint64_t(bad);
+            if ((PS_U(ps, flags) & AW_PATH_SPLIT) && split_next(ps, &rp, l, &l)) {
+              next = int(AW_Q_LOBE + PS_U(ps, lobe));
+              continue;
+            }
+            break;
           }
-          int bad = 0;
-          float3 l = path_result(ps, &rp, &bad);
-          n_bad += uint64_t(bad);
           // Same order and precision as film_accumulate: film + s0 + s1 + ...
           sum.x += l.x;
           sum.y += l.y;

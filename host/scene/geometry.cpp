@@ -50,9 +50,21 @@ void add_quad_indices(DMesh* m, uint32_t base) {
 
 }  // namespace
 
+void orthonormal_basis(const glm::dvec3& n, glm::dvec3* t, glm::dvec3* b) {
+  const double sign = std::copysign(1.0, n.z);
+  const double a = -1.0 / (sign + n.z);
+  const double bb = n.x * n.y * a;
+  *t = glm::dvec3(1.0 + sign * n.x * n.x * a, sign * bb, -sign * n.x);
+  *b = glm::dvec3(bb, sign + n.y * n.y * a, -n.y);
+}
+
 DMesh make_sphere(const glm::dvec3& center, double radius, int segments_u, int segments_v) {
   // UV sphere: u = longitude from +X (0..1 once around Y), v = 0 at the -Y pole to 1 at +Y.
   // Vertices on the seam and at the poles are duplicated so every vertex has one UV.
+  // Tangent: dP/du / |dP/du| = (-sin(phi), 0, -cos(phi)), along the parallel of latitude in
+  // the direction of increasing u; its limit is used at the poles, where dP/du itself
+  // vanishes, so every pole copy gets the direction of its own longitude. Handedness +1:
+  // (n x dP/du) is dP/dv's direction (the winding comment below).
   DMesh m;
   const int su = segments_u, sv = segments_v;
   for (int j = 0; j <= sv; ++j) {
@@ -69,6 +81,7 @@ DMesh make_sphere(const glm::dvec3& center, double radius, int segments_u, int s
       m.positions.push_back(center + radius * dir);
       m.normals.push_back(dir);
       m.uvs.emplace_back(u, v);
+      m.tangents.emplace_back(-std::sin(phi), 0.0, -std::cos(phi), 1.0);
     }
   }
   const auto idx = [su](int i, int j) { return static_cast<uint32_t>(j * (su + 1) + i); };
@@ -89,6 +102,9 @@ DMesh make_quad(const glm::dvec3& corner, const glm::dvec3& edge_u, const glm::d
   m.positions = {corner, corner + edge_u, corner + edge_u + edge_v, corner + edge_v};
   m.normals = {n, n, n, n};
   m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  // u runs along edge_u, which is orthogonal to n = edge_u x edge_v (normalised): handedness +1.
+  const glm::dvec4 t(glm::normalize(edge_u), 1.0);
+  m.tangents = {t, t, t, t};
   add_quad_indices(&m, 0);
   return m;
 }
@@ -96,24 +112,24 @@ DMesh make_quad(const glm::dvec3& corner, const glm::dvec3& edge_u, const glm::d
 DMesh make_disk(const glm::dvec3& center, const glm::dvec3& normal, double radius, int segments) {
   DMesh m;
   const glm::dvec3 n = glm::normalize(normal);
-  // Right-handed orthonormal basis (t, b, n), t x b = n (Duff et al. 2017, "Building an
-  // Orthonormal Basis, Revisited"); deterministic and continuous except at n.z = 0 crossings.
-  const double sign = std::copysign(1.0, n.z);
-  const double a = -1.0 / (sign + n.z);
-  const double bb = n.x * n.y * a;
-  const glm::dvec3 t(1.0 + sign * n.x * n.x * a, sign * bb, -sign * n.x);
-  const glm::dvec3 b(bb, sign + n.y * n.y * a, -n.y);
+  // Right-handed orthonormal basis (t, b, n), t x b = n; deterministic and continuous except at
+  // n.z = 0 crossings.
+  glm::dvec3 t, b;
+  orthonormal_basis(n, &t, &b);
   // Planar UVs over the disk's bounding square: (0.5, 0.5) at the centre, u along t, v along
   // b. For a disk facing +Y that is u along +X and v along -Z, like the top face of a box.
+  // So the tangent is t everywhere, handedness +1.
   m.positions.push_back(center);
   m.normals.push_back(n);
   m.uvs.emplace_back(0.5, 0.5);
+  m.tangents.emplace_back(t, 1.0);
   for (int k = 0; k < segments; ++k) {
     const double angle = 2.0 * kPi * k / segments;
     const double c = std::cos(angle), s = std::sin(angle);
     m.positions.push_back(center + radius * (c * t + s * b));
     m.normals.push_back(n);
     m.uvs.emplace_back(0.5 + 0.5 * c, 0.5 + 0.5 * s);
+    m.tangents.emplace_back(t, 1.0);
   }
   for (int k = 0; k < segments; ++k) {
     // Counter-clockwise around n because t x b = n.
@@ -143,6 +159,8 @@ DMesh make_box(const glm::dvec3& min, const glm::dvec3& max) {
     const uint32_t base = static_cast<uint32_t>(m.positions.size());
     glm::dvec3 n(0.0);
     n[f.axis] = f.sign;
+    glm::dvec4 tangent(0.0, 0.0, 0.0, 1.0);  // the face's u direction; u x v = n: handedness +1
+    tangent[f.u_axis] = f.u_sign;
     // Corners are picked from min/max per axis (never computed as centre +- half extent) so
     // that the box's vertices are exactly its bounds.
     const int uv_corners[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
@@ -154,6 +172,7 @@ DMesh make_box(const glm::dvec3& min, const glm::dvec3& max) {
       m.positions.push_back(p);
       m.normals.push_back(n);
       m.uvs.emplace_back(c[0], c[1]);
+      m.tangents.push_back(tangent);
     }
     add_quad_indices(&m, base);
   }
@@ -214,6 +233,24 @@ bool finalize_mesh(const DMesh& in, const glm::dmat4& transform, TriangleMesh* o
   }
   out->uvs.reserve(in.uvs.size());
   for (const glm::dvec2& uv : in.uvs) out->uvs.emplace_back(uv);
+  // Tangents are tangent vectors (dP/du), so they transform like positions' differences, by
+  // M itself; that keeps them orthogonal to the inverse-transpose normals, (M t)·(M^-T n) =
+  // t·n = 0 (up to rounding, removed by one Gram-Schmidt step). The handedness compares
+  // n x t with dP/dv; M maps t x b to det(M) M^-T (t x b), so a mirror flips it.
+  out->tangents.clear();
+  out->tangents.reserve(in.tangents.size());
+  for (size_t i = 0; i < in.tangents.size(); ++i) {
+    glm::dvec3 t = linear * glm::dvec3(in.tangents[i]);
+    if (i < out->normals.size()) {
+      const glm::dvec3 n(out->normals[i]);
+      t -= n * glm::dot(n, t);
+    }
+    const double len = glm::length(t);
+    if (len > 0.0) t /= len;
+    const glm::vec4 f(glm::dvec4(t, mirrored ? -in.tangents[i].w : in.tangents[i].w));
+    if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) return false;
+    out->tangents.push_back(f);
+  }
   out->indices = in.indices;
   if (mirrored) {
     // A mirroring transform reverses the winding; swap two corners so that the geometric

@@ -31,8 +31,16 @@ struct DMesh {
   std::vector<glm::dvec3> positions;
   std::vector<glm::dvec3> normals;  // empty or one per position
   std::vector<glm::dvec2> uvs;      // empty or one per position
+  // Empty or one per position: analytic tangent along increasing u (unit, orthogonal to the
+  // normal) and handedness w = ±1, as TriangleMesh::tangents.
+  std::vector<glm::dvec4> tangents;
   std::vector<glm::uvec3> indices;
 };
+
+// Right-handed orthonormal basis (t, b, n) with t x b = n for a unit n (Duff et al. 2017,
+// "Building an Orthonormal Basis, Revisited", JCGT 6(1), Listing 3); deterministic, and the
+// same formula as the kernels' make_frame (kernels/common/sampling.h), in double.
+void orthonormal_basis(const glm::dvec3& n, glm::dvec3* t, glm::dvec3* b);
 
 DMesh make_sphere(const glm::dvec3& center, double radius, int segments_u, int segments_v);
 DMesh make_quad(const glm::dvec3& corner, const glm::dvec3& edge_u, const glm::dvec3& edge_v);
@@ -46,9 +54,10 @@ glm::dmat4 rotation_xyz_degrees(const glm::dvec3& degrees);
 bool is_singular(const glm::dmat4& m);
 
 // Applies an affine `transform` (positions by M, normals by the inverse transpose,
-// renormalised; winding flipped for mirroring transforms so the geometric normal still agrees
-// with the shading normals) and converts to float. Returns false if a position or normal
-// is not finite afterwards.
+// renormalised; tangents by M, renormalised, their handedness negated by a mirroring
+// transform; winding flipped for mirroring transforms so the geometric normal still agrees
+// with the shading normals) and converts to float. Returns false if a position, normal or
+// tangent is not finite afterwards.
 bool finalize_mesh(const DMesh& in, const glm::dmat4& transform, TriangleMesh* out);
 
 // Reads an OBJ file (tinyobjloader, triangulated) into `out`, de-indexing the separate

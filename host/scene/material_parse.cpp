@@ -54,6 +54,13 @@ class MaterialParser {
             ctx_, e, {{"tangent", AnisoOrientation::Tangent}, {"uv", AnisoOrientation::Uv}});
       }
       integer(g, "uv_set", 0, std::numeric_limits<int>::max(), &m.anisotropy.uv_set);
+      // Meshes carry one UV set (OBJ has one; the built-in shapes have one): any other set
+      // would silently orient the highlight by set 0, so it is an error, not a warning.
+      if (m.anisotropy.uv_set != 0) {
+        ctx_.fail(join_key(g.path, "uv_set"), "material \"" + name_ + "\": anisotropy.uv_set = " +
+                                                  std::to_string(m.anisotropy.uv_set) +
+                                                  ": no such UV set; meshes carry a single UV set, 0");
+      }
     }
 
     if (Node g = child(n, "refraction"); g.j) refraction(g, &m.refraction);

@@ -88,6 +88,11 @@ struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  // per vertex, same size as positions, or empty
   std::vector<glm::vec2> uvs;      // per vertex, same size as positions, or empty
+  // Per vertex, same size as positions, or empty: xyz a unit tangent along increasing u,
+  // orthogonal to the normal; w = ±1, the handedness (sign of (n × t)·dP/dv). Built-in shapes
+  // carry their analytic tangents; OBJ meshes none: they are generated when a material
+  // needs them (host/scene/tangents.h).
+  std::vector<glm::vec4> tangents;
   std::vector<glm::uvec3> indices;
   uint32_t material = 0;  // index into Scene::materials
   std::string name;       // "objects[3] (mesh meshes/bunny.obj)" for messages and stats

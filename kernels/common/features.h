@@ -20,6 +20,7 @@
 #define AW_FEAT_LIGHT_QUAD 1
 #define AW_FEAT_LIGHT_DISK 1
 #define AW_FEAT_LIGHT_SPHERE 1
+#define AW_FEAT_SPLIT 1  // per-lobe samples split rays at the first hit (integrator/split.h)
 #endif
 
 // One bit per feature, in list order: material_features() (kernels/material/architectural.h)
@@ -41,6 +42,6 @@
 // The list, for the host (names in the order of the defines above).
 #define AW_FEATURE_LIST(X)                                                                     \
   X(TRANSLUCENCY) X(REFLECTION) X(REFRACTION) X(ROUGH_DIFFUSE) X(ANISOTROPY) X(FOG) X(CUTOUT) \
-  X(INCANDESCENCE) X(LIGHT_POINT) X(LIGHT_QUAD) X(LIGHT_DISK) X(LIGHT_SPHERE)
+  X(INCANDESCENCE) X(LIGHT_POINT) X(LIGHT_QUAD) X(LIGHT_DISK) X(LIGHT_SPHERE) X(SPLIT)
 
 #endif

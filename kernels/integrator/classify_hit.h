@@ -19,7 +19,8 @@ AW_FN float3 vertex_position(const AW_GLOBAL VertexData* v) { return make_float3
 AW_FN float3 vertex_normal(const AW_GLOBAL VertexData* v) { return make_float3(v->n[0], v->n[1], v->n[2]); }
 
 // Tangent from the UV parametrisation (dP/du of the triangle), made orthogonal to n; falls
-// back to an arbitrary frame where the UVs are degenerate. Used for anisotropy.
+// back to an arbitrary frame where the UVs are degenerate. The anisotropic frame for
+// anisotropy.orientation = "uv" (constant per triangle), and the mesh tangent's fallback.
 AW_FN float3 triangle_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
                               const AW_GLOBAL VertexData* v2, float3 p0, float3 p1, float3 p2, float3 n) {
   float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
@@ -36,6 +37,23 @@ AW_FN float3 triangle_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL Ve
   float3 b;
   make_frame(n, &t, &b);
   return t;
+}
+
+// Mesh tangent (anisotropy.orientation = "tangent"): the per-vertex tangents (analytic for
+// built-in shapes, generated for meshes: host/scene/tangents.h) blended with the hit's
+// barycentrics, as the shading normal is, then Gram-Schmidt against the interpolated normal
+// n, to which the blend is not exactly orthogonal. The blend of unit vectors has length
+// <= 1; below 1e-3 after the projection (tangents that cancel, one along n, or zeros where
+// the host generated none) its direction is rounding noise, so the UV frame is used instead.
+AW_FN float3 interpolated_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
+                                  const AW_GLOBAL VertexData* v2, float b0, float b1, float b2, float3 p0,
+                                  float3 p1, float3 p2, float3 n) {
+  float3 t = b0 * make_float3(v0->t[0], v0->t[1], v0->t[2]) + b1 * make_float3(v1->t[0], v1->t[1], v1->t[2]) +
+             b2 * make_float3(v2->t[0], v2->t[1], v2->t[2]);
+  t = t - n * dot(n, t);
+  float l2 = dot(t, t);
+  if (l2 > 1e-6f && isfinite(l2)) return t / sqrt(l2);
+  return triangle_tangent(v0, v1, v2, p0, p1, p2, n);
 }
 
 AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
@@ -148,7 +166,8 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
 #if AW_FEAT_ANISOTROPY
   if (m->aniso_amount != 0.0f) {
-    float3 t = triangle_tangent(v0, v1, v2, p0, p1, p2, nshade);
+    float3 t = m->aniso_orientation == AW_ANISO_UV ? triangle_tangent(v0, v1, v2, p0, p1, p2, nshade)
+                                                   : interpolated_tangent(v0, v1, v2, b0, b1, b2, p0, p1, p2, nshade);
     PS_F(ps, sp_tx) = t.x; PS_F(ps, sp_ty) = t.y; PS_F(ps, sp_tz) = t.z;
   }
 #endif

@@ -19,6 +19,7 @@
 #include "integrator/queues.h"
 #include "integrator/shade_shadow.h"
 #include "integrator/shade_surface.h"
+#include "integrator/split.h"
 
 #ifndef AW_WG
 #define AW_WG 256
@@ -45,6 +46,8 @@ static inline void wg_append(__global uint* counters, __global uint* queues, uin
   PathRef ps;                   \
   ps.sf = sf;                   \
   ps.su = su;                   \
+  ps.snap_f = 0;                \
+  ps.snap_u = 0;                \
   ps.pool = rp.pool_size;       \
   ps.slot = (slot_index)
 
@@ -123,7 +126,7 @@ void pass_through(const RenderParams rp, __global uint* queues, __global uint* c
       const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,               \
       __global uint* counters, uint count, __global const TriangleInfo* tri_info,                       \
       __global const VertexData* verts, __global const MaterialGpu* materials,                          \
-      __global const LightGpu* lights) {                                                                \
+      __global const LightGpu* lights, __global float* snap_f, __global uint* snap_u) {                 \
     __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];                                                    \
     uint i = get_global_id(0);                                                                           \
     uint q = AW_Q_COUNT, qs = AW_Q_COUNT;                                                                \
@@ -131,6 +134,8 @@ void pass_through(const RenderParams rp, __global uint* queues, __global uint* c
     if (i < count) {                                                                                     \
       slot = AW_QUEUE(AW_Q_LOBE + (lid))[i];                                                             \
       AW_PATH_REF(slot);                                                                                 \
+      ps.snap_f = snap_f;                                                                                \
+      ps.snap_u = snap_u;                                                                                \
       AW_SCENE_REF;                                                                                      \
       q = (uint)shade_surface(ps, sc, &rp, (lid));                                                       \
       if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) qs = AW_Q_SHADOW;                                         \
@@ -189,25 +194,37 @@ void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* 
   shade_shadow(ps, occluded);
 }
 
+// A split path (integrator/split.h) goes back to its first-hit lobe queue until its last
+// split ends; only then does the job's value (the mean of the splits) reach `samples`.
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
-                __global uint* counters, uint count, __global float* samples, __global uint* stats) {
+                __global uint* counters, uint count, __global float* samples, __global uint* stats,
+                __global float* snap_f, __global uint* snap_u) {
   __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
   uint slot = 0u;
+  uint q = AW_Q_COUNT;
   if (i < count) {
     slot = AW_QUEUE(AW_Q_DONE)[i];
     AW_PATH_REF(slot);
+    ps.snap_f = snap_f;
+    ps.snap_u = snap_u;
     int bad;
     float3 l = path_result(ps, &rp, &bad);
     if (bad) atomic_inc(&stats[AW_STAT_BAD_SAMPLES]);
     if (PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) atomic_inc(&stats[AW_STAT_MISSING_FEATURE]);
-    uint job = PS_U(ps, job);
-    samples[job * 3u + 0u] = l.x;
-    samples[job * 3u + 1u] = l.y;
-    samples[job * 3u + 2u] = l.z;
+    q = AW_Q_FREE;
+#if AW_FEAT_SPLIT
+    if ((PS_U(ps, flags) & AW_PATH_SPLIT) && split_next(ps, &rp, l, &l)) q = AW_Q_LOBE + PS_U(ps, lobe);
+#endif
+    if (q == AW_Q_FREE) {
+      uint job = PS_U(ps, job);
+      samples[job * 3u + 0u] = l.x;
+      samples[job * 3u + 1u] = l.y;
+      samples[job * 3u + 2u] = l.z;
+    }
   }
-  wg_append(counters, queues, rp.pool_size, i < count ? AW_Q_FREE : AW_Q_COUNT, slot, l_n, l_base);
+  wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);
 }
 
 // Adds a finished batch to the film, one work-item per pixel, samples in increasing sample

@@ -27,13 +27,18 @@ enum {
 #define AW_PATH_EMITTERS_ONLY 4u  // the ray only looks for lights: a surface hit ends the path
 #define AW_PATH_FRONT 8u          // the current hit is on the outside (front face) of its surface
 #define AW_PATH_MISSING_FEATURE 16u  // hit a material feature this kernel build lacks (a bug)
+#define AW_PATH_SPLIT 32u            // the first-hit lobe is being split (integrator/split.h)
 
 #define AW_NONE 0xffffffffu
 
 // A handle on one path: the buffers, the pool size (the stride between fields) and the slot.
+// snap_f / snap_u: the first-hit snapshot of lobe splitting (integrator/split.h); only the
+// stages that split or end paths get them, the others leave them null.
 typedef struct {
   AW_GLOBAL float* sf;
   AW_GLOBAL uint* su;
+  AW_GLOBAL float* snap_f;
+  AW_GLOBAL uint* snap_u;
   uint pool;
   uint slot;
 } PathRef;

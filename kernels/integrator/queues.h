@@ -7,7 +7,7 @@
 //   PASS --pass_through--> RAY
 //   LOBE + i --shade_surface<i>--> RAY | DONE   (+ SHADOW)
 //   SHADOW --intersect_shadow--> (adds radiance)
-//   DONE --accumulate--> FREE
+//   DONE --accumulate--> FREE | LOBE + lid (the next split of a first-hit lobe, split.h)
 #ifndef AW_INTEGRATOR_QUEUES_H
 #define AW_INTEGRATOR_QUEUES_H
 

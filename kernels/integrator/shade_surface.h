@@ -6,6 +6,7 @@
 #define AW_INTEGRATOR_SHADE_SURFACE_H
 
 #include "integrator/shade_common.h"
+#include "integrator/split.h"
 #include "lobes/diffuse.h"
 #include "lobes/reflection.h"
 #include "lobes/refraction.h"
@@ -129,6 +130,16 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
   float3 n = ps_sp_normal(ps);
   float3 ng = ps_sp_geo_normal(ps);
   const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
+  // Per-lobe samples: split this lobe at the first scattering vertex (MATERIAL.md §6). The
+  // snapshot is taken before this stage changes anything, so every split starts here.
+  if (rp->split_spp != 0u && PS_U(ps, bounce) == 0u && !(PS_U(ps, flags) & AW_PATH_SPLIT)) {
+    uint n_split = lobe_split_count(m, lid, rp->split_spp);
+#if AW_FEAT_SPLIT
+    if (n_split > 1u) split_begin(ps, n_split);
+#else
+    if (n_split > 1u) PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;  // never silently unsplit
+#endif
+  }
   int front = (PS_U(ps, flags) & AW_PATH_FRONT) != 0u;
   float3 t, b;
   if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f && (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2)) {

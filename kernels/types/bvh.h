@@ -41,12 +41,18 @@ typedef struct {
 } TriangleInfo;
 
 // Per vertex shading data: position (w unused), shading normal (w = 0 if the mesh has no
-// normals: use the geometric normal), uv.
+// normals: use the geometric normal), uv, and the mesh tangent for
+// anisotropy.orientation = "tangent": xyz a unit vector along increasing u, orthogonal to the
+// vertex normal, w = ±1 its handedness (sign of (n × t)·dP/dv; kept for a bitangent, the
+// anisotropic frame itself uses n × t). The tangent is all zero where no material of the
+// mesh reads it (host/scene/tangents.h); the kernels then fall back to the UV frame.
+// 64 bytes: one cache line per vertex.
 typedef struct {
   float p[4];
   float n[4];
   float uv[2];
   float pad[2];
+  float t[4];
 } VertexData;
 
 #endif

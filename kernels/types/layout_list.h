@@ -32,4 +32,5 @@ AW_LAYOUT_ENTRY(28, MaterialGpu, refr_color)
 AW_LAYOUT_ENTRY(29, MaterialGpu, fog_distance)
 AW_LAYOUT_ENTRY(30, MaterialGpu, aniso_amount)
 AW_LAYOUT_ENTRY(31, MaterialGpu, refr_depth)
-#define AW_LAYOUT_COUNT 32
+AW_LAYOUT_ENTRY(32, VertexData, t)
+#define AW_LAYOUT_COUNT 33

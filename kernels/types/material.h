@@ -19,6 +19,11 @@
 #define AW_MAT_SKIP_WEAK_INTERNAL 16u
 #define AW_MAT_TRANSLUCENCY 32u
 
+// anisotropy.orientation: the frame's tangent from the mesh tangents (interpolated per
+// vertex) or from the triangle's UV parametrisation (dP/du). kernels/integrator/classify_hit.h
+#define AW_ANISO_TANGENT 0u
+#define AW_ANISO_UV 1u
+
 // One reflection lobe (reflection and reflection2 share the layout). 64 bytes.
 typedef struct {
   float color[3];
@@ -54,7 +59,7 @@ typedef struct {
   float cutout_opacity;
   float aniso_amount;
   float aniso_rotation;  // 0..1 = 0..360 degrees
-  uint aniso_orientation;  // 0 = tangent, 1 = uv
+  uint aniso_orientation;  // AW_ANISO_TANGENT or AW_ANISO_UV
   float highlight_vs_reflection;
   uint flags;  // AW_MAT_*
   uint refl_depth;  // per-material trace depths (the global ones unless overridden)

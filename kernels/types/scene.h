@@ -63,7 +63,7 @@ typedef struct {
   uint batch_pixel;
   uint batch_sample;
   uint job_count;  // jobs in this batch
-  uint pad;
+  uint split_spp;  // spp when per-lobe samples split at the first hit (integrator/split.h), else 0
 } RenderParams;
 
 #endif

@@ -11,6 +11,7 @@
 
 #include "host/render/render.h"
 #include "host/scene/scene.h"
+#include "tests/render/render_test_util.h"
 
 namespace {
 
@@ -22,11 +23,7 @@ std::string write_scene(const std::string& materials, const std::string& objects
   "materials": {)" + materials + R"(},
   "objects": [)" + objects + R"(])" + extra + R"(
 })";
-  static int n = 0;
-  // Unique per process: ctest runs test cases as parallel processes.
-  std::string path = testing::TempDir() + "/documented_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
-  std::ofstream(path) << json;
-  return path;
+  return aw_test::write_temp_scene("documented", json);
 }
 
 struct Rendered {
@@ -137,10 +134,7 @@ TEST(Documented, CutoutSurfaceIsNotThereForAnyRay) {
                { "shape": "quad", "corner": [-3, 1, 3], "edge_u": [6, 0, 0], "edge_v": [0, 0, -6], "material": "sheet" })" : "") +
                        R"( ]
 })";
-    static int n = 0;
-    std::string path = testing::TempDir() + "/cutout_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
-    std::ofstream(path) << json;
-    return path;
+    return aw_test::write_temp_scene("cutout", json);
   };
   Rendered open = render_both(scene(false)), sheet = render_both(scene(true));
   for (int which = 0; which < 2; ++which) {

@@ -12,6 +12,7 @@
 
 #include "host/render/render.h"
 #include "host/scene/scene.h"
+#include "tests/render/render_test_util.h"
 
 namespace {
 
@@ -39,11 +40,7 @@ std::string scene_for(const std::string& material) {
     { "shape": "box", "min": [-1.5, 0, -0.5], "max": [-1.0, 1e-7, 0.5], "material": "m" }
   ]
 })";
-  static int n = 0;
-  // Unique per process: ctest runs test cases as parallel processes.
-  std::string path = testing::TempDir() + "/extreme_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
-  std::ofstream(path) << json;
-  return path;
+  return aw_test::write_temp_scene("extreme", json);
 }
 
 const char* kMaterials[] = {

@@ -28,6 +28,7 @@
 
 #include "host/render/render.h"
 #include "host/scene/scene.h"
+#include "tests/render/render_test_util.h"
 
 namespace {
 
@@ -42,11 +43,7 @@ std::string scene_with(const std::string& light_json, const std::string& render_
   "objects": [ { "shape": "quad", "corner": [-50, 0, 50], "edge_u": [100, 0, 0], "edge_v": [0, 0, -100],
                  "material": "white" } ]
 })";
-  static int n = 0;
-  // Unique per process: ctest runs test cases as parallel processes.
-  std::string path = testing::TempDir() + "/light_scene_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
-  std::ofstream(path) << json;
-  return path;
+  return aw_test::write_temp_scene("light_scene", json);
 }
 
 double mean_radiance(const aw::RenderResult& r) {

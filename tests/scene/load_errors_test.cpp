@@ -71,6 +71,9 @@ const BadCase kBadCases[] = {
     {"bad_inf_mesh.json", "4:24", "has a vertex coordinate or normal that is NaN or infinite"},
     {"bad_material_colour_type.json", "3:38",
      "materials.m.diffuse.color[1]: expected a number, got \"red\""},
+    // Meshes carry one UV set: another one would silently orient anisotropy by set 0.
+    {"bad_uv_set.json", "4:38",
+     "materials.brushed.anisotropy.uv_set: material \"brushed\": anisotropy.uv_set = 1: no such UV set"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Fixtures, BadScene, ::testing::ValuesIn(kBadCases));

@@ -120,7 +120,7 @@ TEST_F(GoodFullScene, ExplicitMaterialValues) {
   EXPECT_FLOAT_EQ(bronze.anisotropy.amount, -0.8f);
   EXPECT_FLOAT_EQ(bronze.anisotropy.rotation, 0.25f);
   EXPECT_EQ(bronze.anisotropy.orientation, aw::AnisoOrientation::Uv);
-  EXPECT_EQ(bronze.anisotropy.uv_set, 1);
+  EXPECT_EQ(bronze.anisotropy.uv_set, 0);
 
   const aw::MaterialDesc& glass = scene_->materials[2];
   EXPECT_FLOAT_EQ(glass.diffuse.weight, 0);

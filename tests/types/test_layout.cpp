@@ -44,7 +44,8 @@ static_assert(sizeof(LeafTriangle) == 48, "LeafTriangle is 3 float4 (traverse.h 
 static_assert(offsetof(BvhNode, child) == 48, "child indices are the x, y of the node's 4th float4");
 static_assert(offsetof(LeafTriangle, v1) == 16 && offsetof(LeafTriangle, v2) == 32, "one vertex per float4");
 static_assert(sizeof(TriangleInfo) == 16, "TriangleInfo is one uint4");
-static_assert(sizeof(VertexData) == 48, "VertexData: p, n as float4 and uv + pad as float4");
+static_assert(sizeof(VertexData) == 64, "VertexData: p, n, uv + pad, t as four float4");
+static_assert(offsetof(VertexData, t) == 48, "the tangent is the 4th float4 of a vertex");
 
 // Shared structs hold only 4-byte fields (STYLE.md): then alignment is 4 and no compiler can
 // insert padding, so sizeof equals the sum of the declared fields on every side. A member
