@@ -6,6 +6,8 @@
 
 #include "host/scene/tangents.h"
 #include "kernels/common/sampling.h"
+#include "kernels/integrator/split.h"
+#include "kernels/material/architectural.h"
 
 namespace aw {
 
@@ -147,17 +149,6 @@ MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, const
   };
   if (d.ao.enable) note("ao is not rendered yet (ambient occlusion comes with the lights/AO issue)");
   if (!d.bump.input.empty()) note("bump is not rendered yet (textures come later)");
-  // Per-lobe samples split rays at the first hit only when samples > spp (MATERIAL.md §6:
-  // max(1, round(samples / spp)) rays); otherwise splitting changes nothing.
-  if (rs.lobe_splitting) {
-    int most = 0;  // of the lobes that are there at all
-    if (d.reflection.weight > 0.0f) most = std::max(most, d.reflection.samples);
-    if (d.reflection2.weight > 0.0f) most = std::max(most, d.reflection2.samples);
-    if (d.refraction.weight > 0.0f) most = std::max(most, d.refraction.samples);
-    if (most >= 2 * rs.spp)
-      note("per-lobe samples (" + std::to_string(most) + " > spp " + std::to_string(rs.spp) +
-           ") are not split yet: each first hit traces one ray per lobe; raise spp instead");
-  }
   return g;
 }
 
@@ -258,6 +249,21 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   // occlude (a zero-radiance light is a black object). If all have zero power the pick lands
   // on a light with select_pdf 0, whose sample then contributes nothing.
   rp.num_lights = uint32_t(ps.lights.size());
+  // Per-lobe samples split the first hit's rays (MATERIAL.md §6) only when some lobe that is
+  // there at all gets n = round(samples / spp) >= 2; otherwise splitting changes nothing and
+  // the kernels are built without it (kernels/integrator/split.h).
+  if (rs.lobe_splitting) {
+    const uint32_t spp = uint32_t(rs.spp);
+    for (const MaterialGpu& m : ps.materials) {
+      uint32_t used = material_features(&m);
+      bool split = false;
+      for (int i = 0; i < 2; ++i)
+        split |= m.refl[i].weight > 0.0f && positive3(m.refl[i].color) &&
+                 lobe_split_count(&m, i == 0 ? AW_LID_REFLECTION : AW_LID_REFLECTION2, spp) > 1u;
+      split |= (used & AW_FEATBIT_REFRACTION) && lobe_split_count(&m, AW_LID_REFRACTION, spp) > 1u;
+      if (split) rp.split_spp = spp;
+    }
+  }
   return ps;
 }
 
