@@ -8,10 +8,13 @@
 // compute units (so both use the same cores), and on 1 thread for reference; best of 3.
 // Embree's scene is EmbreeScene (robust mode), the one the scalar path and the tests use.
 //
-// Prints a Markdown table plus the machine; --out FILE writes the same text to FILE.
+// Prints a Markdown table plus the machine; --out FILE writes the same text to FILE, --json
+// FILE the same figures as JSON (read by scripts/bench_suite.py).
 // Usage: bench_traversal [--tris N] [--scene FILE.json] [--width W] [--height H]
-//                        [--device I] [--out FILE]
+//                        [--device I] [--out FILE] [--json FILE]
 #include <embree3/rtcore.h>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -49,13 +52,14 @@ struct Options {
   int width = 1024, height = 1024;
   int device = 0;
   std::string out;
+  std::string json;
 };
 
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "bench_traversal: %s\n"
                "usage: bench_traversal [--tris N] [--scene FILE.json] [--width W] [--height H] [--device I] "
-               "[--out FILE]\n",
+               "[--out FILE] [--json FILE]\n",
                msg);
   std::exit(2);
 }
@@ -81,6 +85,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--height") o.height = int(number(1));
     else if (a == "--device") o.device = int(number(0));
     else if (a == "--out") o.out = value();
+    else if (a == "--json") o.json = value();
     else if (a == "--help" || a == "-h") usage("traversal benchmark");
     else usage(("unknown option " + a).c_str());
   }
@@ -390,6 +395,30 @@ int main(int argc, char** argv) {
       o << buf;
     }
     std::fputs(o.str().c_str(), stdout);
+    if (!opt.json.empty()) {
+      nlohmann::json j = {{"cpu", cpu_model()},
+                          {"hardware_threads", std::thread::hardware_concurrency()},
+                          {"device", rt.info().name},
+                          {"compute_units", cu},
+                          {"embree", RTC_VERSION_STRING},
+                          {"geometry", geometry},
+                          {"triangles", soup.indices.size()},
+                          {"bvh_nodes", bvh.nodes.size()},
+                          {"bvh_depth", bvh.max_depth},
+                          {"width", opt.width},
+                          {"height", opt.height},
+                          {"rows", nlohmann::json::array()}};
+      for (const Row& r : rows)
+        j["rows"].push_back({{"kind", r.kind},
+                             {"rays", r.rays},
+                             {"opencl_mrays", double(r.rays) / r.cl_s * 1e-6},
+                             {"embree_mrays", double(r.rays) / r.embree_s * 1e-6},
+                             {"embree1_mrays", double(r.rays) / r.embree1_s * 1e-6},
+                             {"mismatch", r.mismatch}});
+      std::ofstream f(opt.json);
+      f << j.dump(2) << "\n";
+      if (!f) throw std::runtime_error("cannot write " + opt.json);
+    }
     if (!opt.out.empty()) {
       std::ofstream f(opt.out);
       if (!f) throw std::runtime_error("cannot write " + opt.out);

@@ -7,6 +7,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
   libembree-dev libopenexr-dev libglm-dev libpng-dev
   nlohmann-json3-dev libtinyobjloader-dev libcli11-dev libgtest-dev libbenchmark-dev
+  python3-numpy python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -127,8 +127,10 @@ cl::Buffer ClRuntime::buffer(const char* what, size_t bytes, cl_mem_flags flags,
                   " in one allocation; reduce the image size or the scene, or pick another --device");
   }
   try {
-    if (init && bytes) return cl::Buffer(context_, flags | CL_MEM_COPY_HOST_PTR, n, const_cast<void*>(init));
-    return cl::Buffer(context_, flags, n);
+    cl::Buffer b = init && bytes ? cl::Buffer(context_, flags | CL_MEM_COPY_HOST_PTR, n, const_cast<void*>(init))
+                                 : cl::Buffer(context_, flags, n);
+    allocated_bytes_ += n;
+    return b;
   } catch (const cl::Error& e) {
     throw ClError(std::string("cannot allocate buffer '") + what + "' of " + format_bytes(n) + " on " +
                   info_.name + ": " + cl_error_name(e.err()));

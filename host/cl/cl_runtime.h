@@ -54,9 +54,13 @@ class ClRuntime {
   // buffer in messages.
   cl::Buffer buffer(const char* what, size_t bytes, cl_mem_flags flags = CL_MEM_READ_WRITE,
                     const void* init = nullptr);
+  // Bytes of every buffer made by buffer() so far (released ones included): the device
+  // memory a render asked for, reported in the stats.
+  uint64_t allocated_bytes() const { return allocated_bytes_; }
 
  private:
   DeviceInfo info_;
+  uint64_t allocated_bytes_ = 0;
   cl::Context context_;
   cl::CommandQueue queue_;
 };

@@ -20,6 +20,7 @@
 #include "host/film/image_io.h"
 #include "host/film/progress.h"
 #include "host/render/render.h"
+#include "host/render/stats_json.h"
 #include "host/scene/scene.h"
 
 namespace {
@@ -61,7 +62,7 @@ int main(int argc, char** argv) {
       "Flags override the scene file. Exit codes: 0 ok, 2 bad command line, 3 scene error,\n"
       "4 OpenCL/device error, 5 output error, 130 interrupted (partial image written)."};
   app.set_version_flag("--version", ARCHWAVE_VERSION);
-  std::string scene_path, output;
+  std::string scene_path, output, stats_json;
   // Flags are kept as text and handed to the scene loader as overrides, so "--spp -1" or
   // "--width 0" is rejected with the same message as in a scene file.
   std::string spp, width, height, seed;
@@ -93,6 +94,8 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Threads for --scalar (default: all cores)");
   app.add_flag("--no-progress", no_progress, "No progress line (it is also off when stderr is not a terminal)");
   app.add_flag("-q,--quiet", quiet, "No stats summary");
+  app.add_option("--stats-json", stats_json,
+                 "Also write the render's stats (times, stages, rays, memory) as JSON to this file");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -119,6 +122,7 @@ int main(int argc, char** argv) {
 
     if (output.empty()) output = default_output(scene_path);
     check_output_writable(output);
+    if (!stats_json.empty()) check_output_writable(stats_json);
 
     aw::RenderOptions opts;
     opts.device = device;
@@ -138,6 +142,7 @@ int main(int argc, char** argv) {
     std::string png = aw::png_path_for(output);
     // The EXR already holds radiance x exposure; the preview adds only the sRGB curve.
     aw::write_png_preview(png, img, 1.0f);
+    if (!stats_json.empty()) aw::write_stats_json(stats_json, r, scene);
     if (!quiet) std::cerr << r.stats.summary();
     std::cerr << "wrote " << output << " and " << png << " (" << r.min_spp() << " spp)\n";
     if (r.stats.interrupted) {

@@ -70,6 +70,12 @@ std::string RenderStats::summary() const {
   std::snprintf(buf, sizeof buf, "NaN/Inf samples %llu discarded\n", (unsigned long long)bad_samples);
   s << buf;
   if (state_bytes) s << "path pool       " << format_bytes(state_bytes) << "\n";
+  if (scene_bytes) {
+    s << "memory          scene " << format_bytes(scene_bytes) << " (" << triangles << " triangles)";
+    if (film_bytes) s << ", film " << format_bytes(film_bytes);
+    if (device_bytes) s << ", all device buffers " << format_bytes(device_bytes);
+    s << "\n";
+  }
   if (interrupted) s << "INTERRUPTED     the image holds the samples completed before the interrupt\n";
   return s.str();
 }

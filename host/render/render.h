@@ -41,6 +41,13 @@ struct RenderStats {
   uint64_t iterations = 0;
   size_t state_bytes = 0;  // path pool memory
   uint32_t pool_size = 0;  // path states in flight (wavefront)
+  uint64_t triangles = 0;  // triangles in the scene (BVH input)
+  // Scene data the renderer reads: BVH nodes, leaf triangles, triangle info, vertices,
+  // materials, lights (device buffers for the wavefront; the same arrays on the host plus
+  // Embree's own BVH, which is not counted, for the scalar path).
+  size_t scene_bytes = 0;
+  size_t film_bytes = 0;    // film, per-pixel sample counts and the batch's sample buffer
+  size_t device_bytes = 0;  // every device buffer of the render (wavefront)
   bool interrupted = false;
   std::vector<std::string> warnings;
   std::string summary() const;  // multi-line human-readable stats

@@ -243,7 +243,7 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   rp.gi = rs.gi ? 1u : 0u;
   rp.cutoff = rs.cutoff;
   rp.clamp = rs.clamp;
-  rp.rr_depth = 3;
+  rp.rr_depth = uint32_t(rs.rr_depth);
   put3(rp.env_radiance, scene.environment.color * scene.environment.intensity);
   // Every light is passed, also those that cannot be sampled: they are still hit and still
   // occlude (a zero-radiance light is a black object). If all have zero power the pick lands

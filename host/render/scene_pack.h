@@ -26,4 +26,11 @@ struct PackedScene {
 // notes about parameters the current kernels do not render yet to *warnings.
 PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings);
 
+// Bytes of the arrays both renderers read besides a BVH (triangle info, vertices, materials,
+// lights): the scene's share of the memory in the stats.
+inline size_t packed_arrays_bytes(const PackedScene& p) {
+  return p.tri_info.size() * sizeof(TriangleInfo) + p.verts.size() * sizeof(VertexData) +
+         p.materials.size() * sizeof(MaterialGpu) + p.lights.size() * sizeof(LightGpu);
+}
+
 }  // namespace aw

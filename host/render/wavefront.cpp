@@ -125,6 +125,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     cl::Buffer verts = upload(rt, "vertices", packed.verts);
     cl::Buffer materials = upload(rt, "materials", packed.materials);
     cl::Buffer lights = upload(rt, "lights", packed.lights);
+    st.triangles = packed.soup.indices.size();
+    st.scene_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.leaf_tris.size() * sizeof(LeafTriangle) +
+                     packed_arrays_bytes(packed);
+    st.film_bytes = size_t(npix) * (3 + 1) * 4 + size_t(max_batch) * 3 * 4;  // film, counts, batch samples
+    st.device_bytes = rt.allocated_bytes();
     std::vector<uint32_t> identity(pool);
     std::iota(identity.begin(), identity.end(), 0u);
 

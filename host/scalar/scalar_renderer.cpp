@@ -40,6 +40,8 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   EmbreeDevice embree;
   EmbreeScene escene(embree, packed.soup);
   st.bvh_seconds = since(t_bvh);
+  st.triangles = packed.soup.indices.size();
+  st.scene_bytes = packed_arrays_bytes(packed);  // Embree's BVH is Embree's business, not counted
 
   const RenderParams base = packed.params;
   // Cutout surfaces let shadow rays through: step with closest hits only when there are any.

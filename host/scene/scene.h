@@ -35,6 +35,7 @@ struct RenderSettings {
   float cutoff = 0.001f;
   bool lobe_splitting = true;
   float clamp = 0.0f;  // 0 = off
+  int rr_depth = 3;    // archwave extension: first bounce at which Russian roulette may end a path
 };
 
 struct ExposureDesc {

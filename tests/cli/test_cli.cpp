@@ -1,6 +1,7 @@
 // The command line as a user meets it: exit codes, messages, nothing written on error, and an
 // interrupted render that keeps what it has. Runs the real binary.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -142,7 +143,8 @@ TEST(Cli, HelpDocumentsEveryFlag) {
   std::ifstream in(out);
   std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const char* flag : {"--output", "--spp", "--seed", "--width", "--height", "--device", "--scalar",
-                           "--list-devices", "--define", "--kernels", "--pool", "--quiet", "--generic-kernels"})
+                           "--list-devices", "--define", "--kernels", "--pool", "--quiet", "--generic-kernels",
+                           "--stats-json"})
     EXPECT_NE(help.find(flag), std::string::npos) << flag;
 }
 
@@ -167,6 +169,74 @@ TEST(Cli, RenderWritesExrAndPngWithHeader) {
   EXPECT_NE(r.err.find("intersect_closest"), std::string::npos) << r.err;
   // Not a terminal: no progress line (no carriage returns).
   EXPECT_EQ(r.err.find('\r'), std::string::npos);
+}
+
+// --stats-json: the stats the benchmark suite reads, for both renderers, with values that
+// hang together (times add up, buffers hold at least what they must, rays >= samples).
+TEST(Cli, StatsJsonHoldsTheRenderStats) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  auto render = [&](const std::string& name, const std::string& flags) {
+    std::string json = scratch() + "/" + name + ".json";
+    fs::remove(json);
+    CliRun r = run(scene + " --spp 2 --seed 3 -q -o " + scratch() + "/" + name + ".exr --stats-json " + json + " " + flags);
+    EXPECT_EQ(r.code, 0) << r.err;
+    std::ifstream in(json);
+    return nlohmann::json::parse(in);  // throws (fails the test) when missing or malformed
+  };
+  nlohmann::json w = render("stats_wavefront", "");
+  EXPECT_EQ(w["renderer"], "wavefront");
+  EXPECT_EQ(w["width"], 8);
+  EXPECT_EQ(w["height"], 8);
+  EXPECT_EQ(w["spp"], 2);
+  EXPECT_EQ(w["spp_completed"], 2);
+  EXPECT_EQ(w["seed"], 3);
+  EXPECT_EQ(w["samples"], 8 * 8 * 2);
+  EXPECT_EQ(w["interrupted"], false);
+  EXPECT_TRUE(w["warnings"].is_array());
+  EXPECT_FALSE(w["device"].get<std::string>().empty());
+  EXPECT_NE(w["kernel_features"].get<std::string>().find("specialised"), std::string::npos);
+  double total = w["total_seconds"], build = w["compile_seconds"], bvh = w["bvh_seconds"];
+  EXPECT_GT(total, 0.0);
+  EXPECT_GE(build, 0.0);
+  EXPECT_GE(bvh, 0.0);
+  EXPECT_LE(build + bvh, total);
+  EXPECT_NEAR(double(w["render_seconds"]), total - build - bvh, 1e-9);
+  EXPECT_GE(w["closest_rays"].get<uint64_t>(), w["samples"].get<uint64_t>()) << "one camera ray per sample at least";
+  ASSERT_TRUE(w["stages"].is_array());
+  bool saw_intersect = false;
+  for (const auto& s : w["stages"]) {
+    EXPECT_GE(double(s["seconds"]), 0.0);
+    if (s["name"] == "intersect_closest") {
+      saw_intersect = true;
+      EXPECT_EQ(s["items"], w["closest_rays"]);
+    }
+  }
+  EXPECT_TRUE(saw_intersect) << w.dump(2);
+  uint64_t pool = w["pool_size"], state = w["state_bytes"], tris = w["triangles"];
+  uint64_t scene_b = w["scene_bytes"], film = w["film_bytes"], device = w["device_bytes"];
+  EXPECT_GT(pool, 0u);
+  EXPECT_GE(state, pool * 4 * 8) << "a path state is several words";
+  EXPECT_GT(tris, 0u) << "the sphere is tessellated";
+  EXPECT_GE(scene_b, tris * 3 * 4 * 3) << "at least the vertices of every triangle";
+  EXPECT_GE(film, 8u * 8u * 16u) << "RGB sums and a count per pixel";
+  EXPECT_GE(device, state + scene_b + film);
+
+  nlohmann::json s = render("stats_scalar", "--scalar");
+  EXPECT_EQ(s["renderer"], "scalar");
+  EXPECT_EQ(s["samples"], 8 * 8 * 2);
+  EXPECT_EQ(s["triangles"], w["triangles"]);
+  EXPECT_GT(s["scene_bytes"].get<uint64_t>(), 0u);
+  EXPECT_EQ(s["device_bytes"], 0);
+}
+
+TEST(CliBadInput, UnwritableStatsJsonFailsBeforeRendering) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  std::string out = scratch() + "/stats_unwritten.exr";
+  fs::remove(out);
+  CliRun r = run(scene + " -o " + out + " --stats-json /nonexistent_dir_archwave/s.json");
+  EXPECT_EQ(r.code, 5) << r.err;
+  EXPECT_NE(r.err.find("/nonexistent_dir_archwave/s.json"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 // An interrupted render writes the samples it completed, says so, and exits 130.

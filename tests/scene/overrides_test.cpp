@@ -1,6 +1,7 @@
 // -D overrides: applied to the JSON before validation, reported as "command line -D ...".
 #include <gtest/gtest.h>
 
+#include "host/render/scene_pack.h"
 #include "tests/scene/scene_test_util.h"
 
 using aw_test::data_path;
@@ -28,6 +29,16 @@ TEST(Overrides, CreateNewKeysAndSections) {
   EXPECT_FLOAT_EQ(s.camera.fov, 30.0f);
   EXPECT_FLOAT_EQ(s.materials[0].reflection.glossiness, 0.25f);
   EXPECT_FALSE(s.render.gi);
+}
+
+// render.rr_depth (an archwave extension, the benchmark's "Russian roulette off" knob) is
+// validated like any key and reaches the kernels' parameters.
+TEST(Overrides, RussianRouletteDepthReachesTheKernels) {
+  const aw::Scene s = aw::load_scene(kSmall, {"render.rr_depth=1000"});
+  EXPECT_EQ(s.render.rr_depth, 1000);
+  std::vector<std::string> warnings;
+  EXPECT_EQ(aw::pack_scene(s, &warnings).params.rr_depth, 1000u);
+  EXPECT_NE(load_error(kSmall, {"render.rr_depth=-1"}).find("render.rr_depth"), std::string::npos);
 }
 
 TEST(Overrides, CreatedKeysAreValidatedLikeFileKeys) {

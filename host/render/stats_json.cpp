@@ -1,0 +1,55 @@
+#include "host/render/stats_json.h"
+
+#include <algorithm>
+#include <fstream>
+
+#include "host/film/image_io.h"
+
+namespace aw {
+
+nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
+  const RenderStats& st = result.stats;
+  nlohmann::json stages = nlohmann::json::array();
+  for (size_t i = 0; i < st.stage_seconds.size(); ++i) {
+    stages.push_back({{"name", st.stage_seconds[i].first},
+                      {"seconds", st.stage_seconds[i].second},
+                      {"items", i < st.stage_items.size() ? st.stage_items[i] : 0}});
+  }
+  return {
+      {"renderer", st.renderer},
+      {"device", st.device},
+      {"kernel_features", st.kernel_features},
+      {"scene", scene.path},
+      {"width", result.width},
+      {"height", result.height},
+      {"spp", scene.render.spp},
+      {"spp_completed", result.min_spp()},
+      {"seed", scene.render.seed},
+      {"samples", st.samples},
+      {"total_seconds", st.total_seconds},
+      {"compile_seconds", st.compile_seconds},
+      {"bvh_seconds", st.bvh_seconds},
+      {"render_seconds", std::max(0.0, st.total_seconds - st.compile_seconds - st.bvh_seconds)},
+      {"stages", stages},
+      {"iterations", st.iterations},
+      {"closest_rays", st.closest_rays},
+      {"shadow_rays", st.shadow_rays},
+      {"bad_samples", st.bad_samples},
+      {"pool_size", st.pool_size},
+      {"state_bytes", st.state_bytes},
+      {"triangles", st.triangles},
+      {"scene_bytes", st.scene_bytes},
+      {"film_bytes", st.film_bytes},
+      {"device_bytes", st.device_bytes},
+      {"warnings", st.warnings},
+      {"interrupted", st.interrupted},
+  };
+}
+
+void write_stats_json(const std::string& path, const RenderResult& result, const Scene& scene) {
+  std::ofstream out(path);
+  if (out) out << stats_to_json(result, scene).dump(2) << "\n";
+  if (!out) throw OutputError("cannot write stats to \"" + path + "\"");
+}
+
+}  // namespace aw

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# The benchmark suite in one command (README): install what is missing, build, then run
+# scripts/bench_suite.py, which writes results/<timestamp>/report.md and its plots.
+# Arguments go to the suite, e.g. --quick, --only sweeps,knobs, --budget-minutes 10,
+# --update-docs (copies the report to docs/performance.md and the plots to docs/perf/).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh
+# PoCL's kernel cache inside the build tree, shared with the tests; the suite makes its own
+# empty caches where it measures cold builds.
+export POCL_CACHE_DIR="$PWD/build/pocl-cache"
+mkdir -p "$POCL_CACHE_DIR"
+exec python3 scripts/bench_suite.py "$@"
