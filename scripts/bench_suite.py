@@ -138,11 +138,17 @@ class ErrorModel:
     a is its Monte Carlo noise; b what more samples do not remove (bias against the reference,
     the reference's own noise); c0 the fixed cost of a render (wavefront iterations that are
     not full), c1 the cost of a sample. Fitting error against spp and converting through
-    the time model keeps a/t from being bent by c0."""
+    the time model keeps a/t from being bent by c0. Residuals are relative (weights 1/MSE):
+    otherwise the noisiest, lowest-spp point decides b. With `floor` given, b is that."""
 
-    def __init__(self, spp, seconds, mse):
-        spp, seconds = np.asarray(spp, float), np.asarray(seconds, float)
-        self.a, self.b = nonneg_fit(1.0 / spp, np.ones_like(spp), mse)
+    def __init__(self, spp, seconds, mse, floor=None):
+        spp, seconds, mse = (np.asarray(v, float) for v in (spp, seconds, mse))
+        w = 1.0 / mse
+        if floor is None:
+            self.a, self.b = nonneg_fit(w / spp, w, w * mse)
+        else:
+            x = w / spp
+            self.a, self.b = max(0.0, float(np.sum(x * w * (mse - floor)) / np.sum(x * x))), floor
         self.c1, self.c0 = nonneg_fit(spp, np.ones_like(spp), seconds)
         if self.c1 <= 0:  # all points at one spp: cost per sample from the mean
             self.c0, self.c1 = 0.0, float(np.mean(seconds / spp))
@@ -156,6 +162,21 @@ class ErrorModel:
         if e * e <= self.b * 1.0001 or self.a <= 0:
             return math.inf
         return self.c0 + self.c1 * self.a / (e * e - self.b)
+
+
+def shared_floor(groups):
+    """b in MSE_ij = a_i / spp_ij + b, fitted jointly over settings that converge to the same
+    image as the reference (groups = [(spp, mse)]): their only floor is the reference's own
+    noise, common to all, and many points pin it down where one setting's three cannot.
+    Relative residuals, as in ErrorModel."""
+    rows = []
+    for i, (spp, mse) in enumerate(groups):
+        for s, m in zip(spp, mse):
+            row = np.zeros(len(groups) + 1)
+            row[i], row[-1] = 1.0 / (s * m), 1.0 / m
+            rows.append(row)
+    sol, *_ = np.linalg.lstsq(np.array(rows), np.ones(len(rows)), rcond=None)
+    return max(0.0, float(sol[-1]))
 
 
 # ---- the programs under test ----------------------------------------------------------------
@@ -668,10 +689,15 @@ class Suite:
                    ("cutoff 0.1", ["render.cutoff=0.1"], "unbiased"),
                    ("Russian roulette off (rr_depth 1000)", ["render.rr_depth=1000"], "unbiased"),
                    ("Russian roulette from bounce 1", ["render.rr_depth=1"], "unbiased")]
-        glossy = [("default (splitting on, lobe samples 8)", [], "unbiased"),
-                  ("lobe splitting off", ["render.lobe_splitting=false"], "unbiased"),
-                  ("splitting on, lobe samples 32", samples(32), "unbiased"),
-                  ("splitting on, lobe samples 128", samples(128), "unbiased")]
+
+        def split(n, on=True):
+            # samples = n * spp gives n rays per glossy lobe at the first hit (max(1,
+            # round(samples / spp)), MATERIAL.md §6) whatever spp the equal-time search picks.
+            return lambda spp: samples(n * spp) + ([] if on else ["render.lobe_splitting=false"])
+        glossy = [("default (lobe samples 8, below spp: no split)", [], "unbiased"),
+                  ("samples = 4·spp: 4 rays per glossy lobe at the first hit", split(4), "unbiased"),
+                  ("samples = 4·spp, lobe_splitting false", split(4, on=False), "unbiased"),
+                  ("samples = 16·spp: 16 rays per glossy lobe", split(16), "unbiased")]
         if self.quick:
             cornell = [cornell[0], cornell[2], cornell[8]]
             glossy = glossy[:3]
@@ -680,12 +706,12 @@ class Suite:
     def knob_setting(self, scene, index, defines, target, per_spp_guess):
         """One setting at about T/16 (the calibration), T/4 and T seconds of render time: the
         points of its error-vs-time curve, the last one being the equal-time render."""
-        defs = scene.defines + defines
         tag = f"knob_{scene.key}_{index}"
         done = {}
 
         def at(spp):
             if spp not in done:
+                defs = scene.defines + (defines(spp) if callable(defines) else list(defines))
                 done[spp] = self.render(scene.path, f"{tag}_{spp}", spp, scene.width, scene.height, defines=defs)
             return done[spp]
         cal_spp = max(1, round(target / 16 / per_spp_guess))
@@ -709,7 +735,9 @@ class Suite:
               "a calibration render at about T/16), and at a quarter of that spp. Through each setting's "
               "points the suite fits MSE(spp) = a/spp + b (a: its noise; b: what more samples do not "
               "remove — bias against the reference and the reference's own noise) and time(spp) = "
-              "c0 + c1·spp. **Error at equal time** is that fit's RMSE at exactly T; the render nearest T "
+              "c0 + c1·spp, with relative residuals. Settings that converge to the reference's image "
+              "(\"unbiased\") share one b, the reference's noise, fitted jointly over all their points; "
+              "the others get their own. **Error at equal time** is that fit's RMSE at exactly T; the render nearest T "
               "and its measured RMSE are shown too. **Time to equal error** is the time at which the fit "
               "reaches E = the default setting's RMSE at T; \"never\" when b alone exceeds E². Errors are "
               "against the reference of the **default** settings: a setting that changes the converged "
@@ -734,11 +762,14 @@ class Suite:
                     for i, (name, defines, kind) in enumerate(opts)]
             top = max(r.stats["spp"] for _, _, rs in runs for r in rs)
             ref_exr, ref_meta = self.reference(scene, REF_FACTOR * 2 ** math.ceil(math.log2(top)), share * 0.15)
+            measured = [(name, kind, rs, np.array([r.seconds for r in rs]),
+                         np.array([self.tools.compare(r.exr, ref_exr)["rmse"] ** 2 for r in rs]))
+                        for name, kind, rs in runs]
+            floor = shared_floor([([r.stats["spp"] for r in rs], mse) for _, kind, rs, _, mse in measured
+                                  if kind == "unbiased"])
             fits = []
-            for name, kind, rs in runs:
-                t = np.array([r.seconds for r in rs])
-                mse = np.array([self.tools.compare(r.exr, ref_exr)["rmse"] ** 2 for r in rs])
-                model = ErrorModel([r.stats["spp"] for r in rs], t, mse)
+            for name, kind, rs, t, mse in measured:
+                model = ErrorModel([r.stats["spp"] for r in rs], t, mse, floor if kind == "unbiased" else None)
                 nearest = int(np.argmin(np.abs(np.log(t / target))))
                 fits.append({"name": name, "kind": kind, "runs": rs, "t": t, "mse": mse, "b": model.b,
                              "model": model, "nearest": rs[nearest], "rmse_nearest": math.sqrt(mse[nearest]),
@@ -772,19 +803,19 @@ class Suite:
 
     @staticmethod
     def splitting_note(fits):
-        """Whether the equal-time renders actually split (the stats name the 'split' kernel
-        feature when some lobe gets more than one ray at the first hit)."""
+        """What splitting bought: the 4-ray setting against the same samples with splitting off
+        (the stats name the 'split' kernel feature when some lobe gets more than one ray)."""
         split = [f["name"] for f in fits if re.search(r"\bsplit\b", f["nearest"].stats["kernel_features"])]
         text = ("Lobe splitting (MATERIAL.md §6) traces max(1, round(samples / spp)) rays per glossy lobe at "
-                "the first hit, so it acts only while a lobe's `samples` exceeds spp. Equal-time renders "
-                "that split: " + (", ".join(split) if split else "none (at these spp splitting is a no-op)")
-                + ". ")
-        off = next((f for f in fits if "off" in f["name"]), None)
-        if off is not None:
-            text += (f"Splitting off vs the default at equal time: RMSE × "
-                     f"{fmt(off['rmse_T'] / fits[0]['rmse_T'], 3)}; "
-                     f"time to the default's error × "
-                     f"{fmt(off['t_goal'] / fits[0]['t_goal'], 3) if math.isfinite(off['t_goal']) else '–'}.")
+                "the first hit, so it acts only while a lobe's `samples` exceeds spp; the settings above set "
+                "samples = n·spp to hold n fixed across the equal-time search. Renders at T that split: "
+                + (", ".join(split) if split else "none") + ". ")
+        on = next((f for f in fits if f["name"].startswith("samples = 4·spp:")), None)
+        off = next((f for f in fits if "lobe_splitting false" in f["name"]), None)
+        if on and off and math.isfinite(on["t_goal"]) and math.isfinite(off["t_goal"]):
+            text += (f"4-way splitting on vs off at equal time: RMSE × {fmt(on['rmse_T'] / off['rmse_T'], 3)}, "
+                     f"time to the default's error × {fmt(on['t_goal'] / off['t_goal'], 3)} (below 1: "
+                     "splitting pays).")
         return text + "\n"
 
     # ---- 3. throughput ----------------------------------------------------------------------
@@ -891,7 +922,7 @@ class Suite:
 
     def section_specialisation(self):
         keys = ["cornell"] if self.quick else ["cornell", "glossy", "knot"]
-        w, h, spp = (32, 24, 2) if self.quick else (320, 240, 16)
+        w, h, spp = (32, 24, 2) if self.quick else (320, 240, 32)
         knot = BenchScene("knot", "torus knot (scenes/knot.json)", os.path.join(REPO, "scenes", "knot.json"), w, h)
         rows, cornell_ratio = [], None
         cold_root = tempfile.mkdtemp(prefix="pocl-cold-", dir=self.work)
