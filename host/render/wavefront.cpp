@@ -188,7 +188,10 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
 
     // PoCL compiles the work-group function of a kernel at its first launch with a given
     // local size, not at clBuildProgram: launch every stage once on zero items now, so that
-    // cost is reported as compile time and not as the first iteration's stage time.
+    // cost is reported as compile time and not as the first iteration's stage time. PoCL also
+    // builds a second work-group function for large grids (above ~2^16 work-items) at the
+    // first such launch: a second, large launch on zero items compiles that one too (every
+    // work-item masks itself out by the count, so nothing is written).
     {
       auto t0 = Clock::now();
       rp.job_count = 0;
@@ -196,7 +199,8 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         s->kernel.setArg(0, sizeof(RenderParams), &rp);
         if (count_arg(s) >= 0) s->kernel.setArg(count_arg(s), 0u);
         if (s == &regen) s->kernel.setArg(6, 0u);
-        q.enqueueNDRangeKernel(s->kernel, cl::NullRange, cl::NDRange(kWorkGroup), cl::NDRange(kWorkGroup));
+        for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
+          q.enqueueNDRangeKernel(s->kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
       }
       q.finish();
       st.compile_seconds += since(t0);
