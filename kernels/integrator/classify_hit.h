@@ -164,17 +164,22 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   PS_U(ps, material) = tri->material;
   if (front) PS_U(ps, flags) |= AW_PATH_FRONT;
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
+  float3 tangent = make_float3(0.0f, 0.0f, 0.0f);  // read only for anisotropic materials
 #if AW_FEAT_ANISOTROPY
   if (m->aniso_amount != 0.0f) {
-    float3 t = m->aniso_orientation == AW_ANISO_UV ? triangle_tangent(v0, v1, v2, p0, p1, p2, nshade)
-                                                   : interpolated_tangent(v0, v1, v2, b0, b1, b2, p0, p1, p2, nshade);
-    PS_F(ps, sp_tx) = t.x; PS_F(ps, sp_ty) = t.y; PS_F(ps, sp_tz) = t.z;
+    tangent = m->aniso_orientation == AW_ANISO_UV ? triangle_tangent(v0, v1, v2, p0, p1, p2, nshade)
+                                                  : interpolated_tangent(v0, v1, v2, b0, b1, b2, p0, p1, p2, nshade);
+    PS_F(ps, sp_tx) = tangent.x; PS_F(ps, sp_ty) = tangent.y; PS_F(ps, sp_tz) = tangent.z;
   }
 #endif
 
-  // Lobe choice (MATERIAL.md §2): in proportion to each lobe's share of the energy.
-  float cos_o = clamp(-dot(dir, nshade), 0.0f, 1.0f);
-  LobeWeights lw = material_lobe_weights(m, cos_o, front);
+  // Lobe choice (MATERIAL.md §2): in proportion to each lobe's share of the energy, the
+  // reflection lobes' Fresnel taken at the microfacet their sample will use: the same frame
+  // and the same random numbers as shade_surface (material_lobe_weights_sampled says why).
+  float3 rt, rb;
+  material_reflection_frame(m, nshade, tangent, &rt, &rb);
+  float2 u_bsdf = rng_2d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
+  LobeWeights lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, nshade), u_bsdf, front);
   // Refraction past its depth returns black (MATERIAL.md §5).
   if ((PS_U(ps, depths) >> 16) >= m->refr_depth) lw.prob[AW_LID_REFRACTION] = 0.0f;
   float total = 0.0f;

@@ -43,10 +43,7 @@ AW_FN LobeSetup lobe_setup(const AW_GLOBAL MaterialGpu* m, uint lid, int front) 
   }
 #if AW_FEAT_REFLECTION
   else if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) {
-    const AW_GLOBAL ReflectionGpu* r = &m->refl[lid == AW_LID_REFLECTION ? 0 : 1];
-    float3 tint = load_f3(r->color);
-    if (lid == AW_LID_REFLECTION && (m->flags & AW_MAT_METAL)) tint = tint * load_f3(m->diffuse_color);
-    l.refl = reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, front, thin));
+    l.refl = material_reflection_params(m, lid == AW_LID_REFLECTION ? 0u : 1u, front);
   }
 #endif
 #if AW_FEAT_REFRACTION
@@ -118,13 +115,6 @@ AW_FN LobeSample lobe_sample(const LobeSetup* l, float3 wo, float2 u) {
   return lobe_diffuse_sample(l->color, l->roughness, wo, u);
 }
 
-// Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, MATERIAL.md §3).
-AW_FN float3 rotate_tangent(float3 t, float3 n, float rotation) {
-  if (rotation == 0.0f) return t;
-  float a = 2.0f * M_PI_F * rotation;
-  return cos(a) * t + sin(a) * cross(n, t);
-}
-
 AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint lid) {
   float3 p = ps_sp_position(ps);
   float3 n = ps_sp_normal(ps);
@@ -142,12 +132,8 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
   }
   int front = (PS_U(ps, flags) & AW_PATH_FRONT) != 0u;
   float3 t, b;
-  if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f && (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2)) {
-    t = rotate_tangent(ps_sp_tangent(ps), n, m->aniso_rotation);
-    b = cross(n, t);
-  } else {
-    make_frame(n, &t, &b);
-  }
+  if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) material_reflection_frame(m, n, ps_sp_tangent(ps), &t, &b);
+  else make_frame(n, &t, &b);
   float3 wo = frame_to_local(-ps_ray_dir(ps), t, b, n);
   LobeSetup l = lobe_setup(m, lid, front);
   float3 lw = ps_lobe_weight(ps);

@@ -13,6 +13,7 @@
 #define AW_FRESNEL_DIELECTRIC 0u
 #define AW_FRESNEL_CONDUCTOR 1u
 #define AW_FRESNEL_CURVE 2u
+#define AW_FRESNEL_THIN_DIELECTRIC 3u  // a thin pane: both faces' reflections (thin_walled.h)
 
 // Passed by value (OpenCL C has no references). `eta` is n_transmitted / n_incident for the
 // dielectric and the conductor's n for the conductor (its k in `k`); the curve uses
@@ -102,9 +103,17 @@ AW_FN float fresnel_curve(float cos_i, float facing, float perpendicular, float 
   return facing + (perpendicular - facing) * pow(1.0f - c, fmax(curve, 0.0f));
 }
 
+// R' of a thin pane from the single-interface reflectance R in [0, 1]: R' = 2R / (1 + R), the
+// sum of the inter-reflections between its two faces (derivation in lobes/thin_walled.h).
+AW_FN float thin_wall_reflectance(float R) {
+  R = clamp(R, 0.0f, 1.0f);
+  return 2.0f * R / (1.0f + R);
+}
+
 AW_FN float fresnel_eval(FresnelParams f, float cos_i) {
   if (f.mode == AW_FRESNEL_CONDUCTOR) return fresnel_conductor(cos_i, f.eta, f.k);
   if (f.mode == AW_FRESNEL_CURVE) return fresnel_curve(cos_i, f.facing, f.perpendicular, f.curve);
+  if (f.mode == AW_FRESNEL_THIN_DIELECTRIC) return thin_wall_reflectance(fresnel_dielectric(cos_i, f.eta));
   return fresnel_dielectric(cos_i, f.eta);
 }
 

@@ -147,6 +147,15 @@ AW_FN LobeSample reflection_mf_sample(ReflectionParams p, float3 wo, float2 u) {
 
 /* ------------------------------- the lobe ------------------------------------------------ */
 
+// The microfacet normal that lobe_reflection_sample draws from random numbers u (its first
+// step; the surface normal for the mirror): the material's energy split evaluates Fresnel at
+// it, so that the split and the sampled lobe see the same reflectance (architectural.h).
+AW_FN float3 reflection_sample_normal(ReflectionParams p, float3 wo, float2 u) {
+  if (reflection_is_delta(p)) return make_float3(0.0f, 0.0f, 1.0f);
+  if (reflection_is_as(p)) return as_sample_half_vector(p.as_nu, p.as_nv, u);
+  return mf_sample_visible(p.mf, wo, u);
+}
+
 AW_FN float3 lobe_reflection_eval(ReflectionParams p, float3 wo, float3 wi) {
   if (reflection_is_delta(p)) return make_float3(0.0f, 0.0f, 0.0f);
   if (reflection_is_as(p)) return lobe_ashikhmin_shirley_eval(reflection_as_params(p), wo, wi);

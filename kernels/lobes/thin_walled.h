@@ -30,14 +30,9 @@
 #define AW_LOBES_THIN_WALLED_H
 
 #include "common/compat.h"
+#include "lobes/fresnel.h"  // thin_wall_reflectance
 #include "lobes/lobe.h"
 #include "lobes/microfacet.h"
-
-// R' of the pane from the single-interface reflectance R in [0, 1].
-AW_FN float thin_wall_reflectance(float R) {
-  R = clamp(R, 0.0f, 1.0f);
-  return 2.0f * R / (1.0f + R);
-}
 
 // T' = 1 - R' of the pane (no absorption): T^2 / (1 - R^2) = (1 - R) / (1 + R).
 AW_FN float thin_wall_transmittance(float R) {

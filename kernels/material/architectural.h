@@ -6,7 +6,9 @@
 
 #include "common/compat.h"
 #include "common/features.h"
+#include "common/sampling.h"
 #include "lobes/fresnel.h"
+#include "lobes/reflection.h"
 #include "lobes/thin_walled.h"
 #include "types/material.h"
 
@@ -25,9 +27,13 @@ AW_FN float material_eta(float ior, int entering, int thin) {
   return (entering || thin) ? ior : 1.0f / ior;
 }
 
+// A reflection lobe's Fresnel. Thin walls reflect from both faces (MATERIAL.md §3 "Thin
+// walled"): a dielectric Fresnel becomes the pane's R' = R + T^2 R / (1 - R^2), in the lobe and
+// in the energy split alike, so a pane's R' + T' = 1. A conductor or the artist curve is a
+// reflectance as given (no light crosses a metal; the curve is the user's).
 AW_FN FresnelParams material_fresnel(const AW_GLOBAL ReflectionGpu* r, int entering, int thin) {
   FresnelParams f;
-  f.mode = r->fresnel_mode;
+  f.mode = (thin && r->fresnel_mode == AW_FRESNEL_DIELECTRIC) ? AW_FRESNEL_THIN_DIELECTRIC : r->fresnel_mode;
   f.eta = r->fresnel_mode == AW_FRESNEL_CONDUCTOR ? r->fresnel_ior : material_eta(r->fresnel_ior, entering, thin);
   f.k = r->fresnel_k;
   f.facing = r->facing;
@@ -36,18 +42,77 @@ AW_FN FresnelParams material_fresnel(const AW_GLOBAL ReflectionGpu* r, int enter
   return f;
 }
 
-// Fresnel reflectance at the view angle, as the energy split sees it. Thin walls reflect
-// from both faces: R' = R + T^2 R / (1 - R^2) (MATERIAL.md §3, "Thin walled").
+// Fresnel reflectance at the view angle (the split of MATERIAL.md §2 read literally).
 AW_FN float material_view_fresnel(const AW_GLOBAL ReflectionGpu* r, float cos_o, int entering, int thin) {
-  float f = fresnel_eval(material_fresnel(r, entering, thin), cos_o);
-  if (thin && r->fresnel_mode != AW_FRESNEL_CURVE) f = thin_wall_reflectance(f);
-  return clamp(f, 0.0f, 1.0f);
+  return clamp(fresnel_eval(material_fresnel(r, entering, thin), cos_o), 0.0f, 1.0f);
 }
 
-// MATERIAL.md §2 at view cosine cos_o; `entering` = the ray arrives on the outside of the
-// surface (a ray arriving from inside a refractive object is subject to
-// skip_weak_internal_reflections).
+// Reflection lobe i (0 = reflection, 1 = reflection2) as the shading stage samples it.
+AW_FN ReflectionParams material_reflection_params(const AW_GLOBAL MaterialGpu* m, uint i, int entering) {
+  const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
+  float3 tint = load_f3(r->color);
+  if (i == 0u && (m->flags & AW_MAT_METAL)) tint = tint * load_f3(m->diffuse_color);
+  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  return reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, entering, thin));
+}
+
+// Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, MATERIAL.md §3).
+AW_FN float3 rotate_tangent(float3 t, float3 n, float rotation) {
+  if (rotation == 0.0f) return t;
+  float a = 2.0f * M_PI_F * rotation;
+  return cos(a) * t + sin(a) * cross(n, t);
+}
+
+// The frame the reflection lobes shade in: the rotated surface tangent for anisotropic
+// materials, any frame around n otherwise. (The other lobes are isotropic: any frame.)
+AW_FN void material_reflection_frame(const AW_GLOBAL MaterialGpu* m, float3 n, float3 tangent, float3* t, float3* b) {
+  if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f) {
+    *t = rotate_tangent(tangent, n, m->aniso_rotation);
+    *b = cross(n, *t);
+  } else {
+    make_frame(n, t, b);
+  }
+}
+
+AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float f1, float f2, int entering);
+
+// MATERIAL.md §2 at view cosine cos_o, with the reflectances taken at the view angle;
+// `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
+// refractive object is subject to skip_weak_internal_reflections).
 AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
+  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
+  float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
+  return material_lobe_weights_f(m, f1, f2, entering);
+}
+
+// The split the renderer uses: each reflection lobe's reflectance is its Fresnel at the
+// microfacet normal that the lobe's own sample will draw from the same random numbers u
+// (wo in the reflection frame, material_reflection_frame). Why: the lobe carries Fresnel at
+// the microfacet (MATERIAL.md §3), so it reflects E[F(wo.h) g(h)] with g <= 1 (G2/G1 for
+// Beckmann/GGX, cos_i / max(cos_i, cos_o) for Ashikhmin-Shirley), while a split at the view
+// angle sets aside F(theta_o) < E[F(wo.h)] for rough lobes (F is convex): a rough Beckmann
+// reflection over a smooth refraction returned up to 0.6% more energy than it received.
+// With F(wo.h) in the split, reflection gets E[F g] <= E[F] and the rest E[1 - F], so the
+// material never creates energy; for a mirror h = n and this is the view-angle split exactly.
+// Unbiased: the lobe is chosen with probability p(h) and weighted 1/p(h) (NEE and BSDF
+// sampling alike), so E over h of the indicator / p(h) is 1 for any h-dependent choice.
+AW_FN LobeWeights material_lobe_weights_sampled(const AW_GLOBAL MaterialGpu* m, float3 wo, float2 u, int entering) {
+  float f[2] = {0.0f, 0.0f};
+#if AW_FEAT_REFLECTION
+  for (uint i = 0u; i < 2u; ++i) {
+    if (!(m->refl[i].weight > 0.0f)) continue;
+    ReflectionParams p = material_reflection_params(m, i, entering);
+    float3 h = reflection_sample_normal(p, wo, u);
+    f[i] = clamp(fresnel_eval(p.fresnel, clamp(dot(wo, h), 0.0f, 1.0f)), 0.0f, 1.0f);
+  }
+#endif
+  return material_lobe_weights_f(m, f[0], f[1], entering);
+}
+
+// The split itself, given each reflection lobe's reflectance f1, f2 in [0, 1] (0 for a lobe
+// without weight).
+AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float f1, float f2, int entering) {
   LobeWeights lw;
   int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
   int metal = (m->flags & AW_MAT_METAL) != 0u;
@@ -56,15 +121,13 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
 
   // Reflection: rho1 = weight * color * F1(theta_o) (x diffuse colour when metal).
   float3 rho1 = zero, rho2 = zero;
-  float f1 = 0.0f, f2 = 0.0f, lum1 = 0.0f, lum2 = 0.0f, keep2 = 1.0f;
+  float lum1 = 0.0f, lum2 = 0.0f, keep2 = 1.0f;
 #if AW_FEAT_REFLECTION
   float3 tint1 = load_f3(m->refl[0].color);
   if (metal) tint1 = tint1 * diffuse;
-  f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
   rho1 = m->refl[0].weight * f1 * tint1;
   lum1 = fmin(1.0f, luminance(rho1));
   // Reflection 2 gets what reflection 1 leaves.
-  f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
   keep2 = 1.0f - lum1;
   rho2 = m->refl[1].weight * f2 * keep2 * load_f3(m->refl[1].color);
   lum2 = luminance(rho2);
