@@ -469,6 +469,9 @@ class Suite:
                                  os.path.join(REPO, "scenes", "materials.json"),
                                  *scene_size(os.path.join(REPO, "scenes", "materials.json"), w)),
         }
+        docs_glossy = os.path.join(REPO, "scenes", "docs", "glossy_fresnel.json")
+        self.scenes["docs_glossy"] = BenchScene("docs_glossy", "the documentation's glossy Fresnel example",
+                                                docs_glossy, *scene_size(docs_glossy, w))
         segs, rings = (64, 32) if self.quick else (2048, 256)
         mesh = os.path.join(self.mesh_dir, f"knot_{segs}x{rings}.obj")
         self.scenes["mesh"] = BenchScene("mesh", f"torus knot, {2 * segs * rings:,} triangles",
@@ -673,12 +676,25 @@ class Suite:
 
     # ---- 2. knobs at equal time -------------------------------------------------------------
 
-    def knob_settings(self):
-        with open(self.scenes["glossy"].path) as f:
+    @staticmethod
+    def splitting_settings(path):
+        """Lobe splitting on and off at a fixed split count, for the scene at `path`."""
+        with open(path) as f:
             mats = json.load(f).get("materials", {})
 
         def samples(n):
             return [f"materials.{m}.{lobe}.samples={n}" for m in mats for lobe in ("reflection", "refraction")]
+
+        def split(n, on=True):
+            # samples = n * spp gives n rays per glossy lobe at the first hit (max(1,
+            # round(samples / spp)), MATERIAL.md §6) whatever spp the equal-time search picks.
+            return lambda spp: samples(n * spp) + ([] if on else ["render.lobe_splitting=false"])
+        return [("default (the scene's lobe samples; below spp: no split)", [], "unbiased"),
+                ("samples = 4·spp: 4 rays per glossy lobe at the first hit", split(4), "unbiased"),
+                ("samples = 4·spp, lobe_splitting false", split(4, on=False), "unbiased"),
+                ("samples = 16·spp: 16 rays per glossy lobe", split(16), "unbiased")]
+
+    def knob_settings(self):
         cornell = [("default (max_depth 8, cutoff 0.001, RR from bounce 3)", [], "unbiased"),
                    ("max_depth 1 (direct light only)", ["render.max_depth=1"], "biased: shorter paths"),
                    ("max_depth 2", ["render.max_depth=2"], "biased: shorter paths"),
@@ -689,19 +705,14 @@ class Suite:
                    ("cutoff 0.1", ["render.cutoff=0.1"], "unbiased"),
                    ("Russian roulette off (rr_depth 1000)", ["render.rr_depth=1000"], "unbiased"),
                    ("Russian roulette from bounce 1", ["render.rr_depth=1"], "unbiased")]
-
-        def split(n, on=True):
-            # samples = n * spp gives n rays per glossy lobe at the first hit (max(1,
-            # round(samples / spp)), MATERIAL.md §6) whatever spp the equal-time search picks.
-            return lambda spp: samples(n * spp) + ([] if on else ["render.lobe_splitting=false"])
-        glossy = [("default (lobe samples 8, below spp: no split)", [], "unbiased"),
-                  ("samples = 4·spp: 4 rays per glossy lobe at the first hit", split(4), "unbiased"),
-                  ("samples = 4·spp, lobe_splitting false", split(4, on=False), "unbiased"),
-                  ("samples = 16·spp: 16 rays per glossy lobe", split(16), "unbiased")]
+        glossy = self.splitting_settings(self.scenes["glossy"].path)
         if self.quick:
             cornell = [cornell[0], cornell[2], cornell[8]]
             glossy = glossy[:3]
-        return [("cornell", cornell), ("glossy", glossy)]
+            return [("cornell", cornell), ("glossy", glossy)]
+        # The issue's own ask: the documentation's glossy example, splitting on and off.
+        docs = self.splitting_settings(self.scenes["docs_glossy"].path)
+        return [("cornell", cornell), ("glossy", glossy), ("docs_glossy", docs)]
 
     def knob_setting(self, scene, index, defines, target, per_spp_guess):
         """One setting at about T/16 (the calibration), T/4 and T seconds of render time: the
@@ -797,7 +808,7 @@ class Suite:
             md.append(f"![{scene_key} knobs]({plot})\n")
             md.append(f"Reference: {ref_meta['spp']} spp, seed {ref_meta['seed']}, {ref_meta['renderer']} "
                       f"({'from the cache' if ref_meta.get('reused') else 'rendered in this run'}).\n")
-            if scene_key == "glossy":
+            if scene_key in ("glossy", "docs_glossy"):
                 md.append(self.splitting_note(fits))
         return "\n".join(md)
 
