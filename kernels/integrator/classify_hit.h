@@ -176,10 +176,16 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   // Lobe choice (MATERIAL.md §2): in proportion to each lobe's share of the energy, the
   // reflection lobes' Fresnel taken at the microfacet their sample will use: the same frame
   // and the same random numbers as shade_surface (material_lobe_weights_sampled says why).
-  float3 rt, rb;
-  material_reflection_frame(m, nshade, tangent, &rt, &rb);
-  float2 u_bsdf = rng_2d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
-  LobeWeights lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, nshade), u_bsdf, front);
+  // Materials without reflection need neither the frame nor the random numbers.
+  LobeWeights lw;
+  if (AW_FEAT_REFLECTION && (m->refl[0].weight > 0.0f || m->refl[1].weight > 0.0f)) {
+    float3 rt, rb;
+    material_reflection_frame(m, nshade, tangent, &rt, &rb);
+    float2 u_bsdf = rng_2d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
+    lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, nshade), u_bsdf, front);
+  } else {
+    lw = material_lobe_weights_f(m, 0.0f, 0.0f, front);
+  }
   // Refraction past its depth returns black (MATERIAL.md §5).
   if ((PS_U(ps, depths) >> 16) >= m->refr_depth) lw.prob[AW_LID_REFRACTION] = 0.0f;
   float total = 0.0f;

@@ -74,42 +74,6 @@ AW_FN void material_reflection_frame(const AW_GLOBAL MaterialGpu* m, float3 n, f
   }
 }
 
-AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float f1, float f2, int entering);
-
-// MATERIAL.md §2 at view cosine cos_o, with the reflectances taken at the view angle;
-// `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
-// refractive object is subject to skip_weak_internal_reflections).
-AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
-  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
-  float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
-  float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
-  return material_lobe_weights_f(m, f1, f2, entering);
-}
-
-// The split the renderer uses: each reflection lobe's reflectance is its Fresnel at the
-// microfacet normal that the lobe's own sample will draw from the same random numbers u
-// (wo in the reflection frame, material_reflection_frame). Why: the lobe carries Fresnel at
-// the microfacet (MATERIAL.md §3), so it reflects E[F(wo.h) g(h)] with g <= 1 (G2/G1 for
-// Beckmann/GGX, cos_i / max(cos_i, cos_o) for Ashikhmin-Shirley), while a split at the view
-// angle sets aside F(theta_o) < E[F(wo.h)] for rough lobes (F is convex): a rough Beckmann
-// reflection over a smooth refraction returned up to 0.6% more energy than it received.
-// With F(wo.h) in the split, reflection gets E[F g] <= E[F] and the rest E[1 - F], so the
-// material never creates energy; for a mirror h = n and this is the view-angle split exactly.
-// Unbiased: the lobe is chosen with probability p(h) and weighted 1/p(h) (NEE and BSDF
-// sampling alike), so E over h of the indicator / p(h) is 1 for any h-dependent choice.
-AW_FN LobeWeights material_lobe_weights_sampled(const AW_GLOBAL MaterialGpu* m, float3 wo, float2 u, int entering) {
-  float f[2] = {0.0f, 0.0f};
-#if AW_FEAT_REFLECTION
-  for (uint i = 0u; i < 2u; ++i) {
-    if (!(m->refl[i].weight > 0.0f)) continue;
-    ReflectionParams p = material_reflection_params(m, i, entering);
-    float3 h = reflection_sample_normal(p, wo, u);
-    f[i] = clamp(fresnel_eval(p.fresnel, clamp(dot(wo, h), 0.0f, 1.0f)), 0.0f, 1.0f);
-  }
-#endif
-  return material_lobe_weights_f(m, f[0], f[1], entering);
-}
-
 // The split itself, given each reflection lobe's reflectance f1, f2 in [0, 1] (0 for a lobe
 // without weight).
 AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float f1, float f2, int entering) {
@@ -180,6 +144,41 @@ AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float 
   for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] = total > 0.0f ? lw.albedo[i] / total : 0.0f;
   return lw;
 }
+
+// MATERIAL.md §2 at view cosine cos_o, with the reflectances taken at the view angle;
+// `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
+// refractive object is subject to skip_weak_internal_reflections).
+AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
+  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
+  float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
+  return material_lobe_weights_f(m, f1, f2, entering);
+}
+
+// The split the renderer uses: each reflection lobe's reflectance is its Fresnel at the
+// microfacet normal that the lobe's own sample will draw from the same random numbers u
+// (wo in the reflection frame, material_reflection_frame). Why: the lobe carries Fresnel at
+// the microfacet (MATERIAL.md §3), so it reflects E[F(wo.h) g(h)] with g <= 1 (G2/G1 for
+// Beckmann/GGX, cos_i / max(cos_i, cos_o) for Ashikhmin-Shirley), while a split at the view
+// angle sets aside F(theta_o) < E[F(wo.h)] for rough lobes (F is convex): a rough Beckmann
+// reflection over a smooth refraction returned up to 0.6% more energy than it received.
+// With F(wo.h) in the split, reflection gets E[F g] <= E[F] and the rest E[1 - F], so the
+// material never creates energy; for a mirror h = n and this is the view-angle split exactly.
+// Unbiased: the lobe is chosen with probability p(h) and weighted 1/p(h) (NEE and BSDF
+// sampling alike), so E over h of the indicator / p(h) is 1 for any h-dependent choice.
+AW_FN LobeWeights material_lobe_weights_sampled(const AW_GLOBAL MaterialGpu* m, float3 wo, float2 u, int entering) {
+  float f[2] = {0.0f, 0.0f};
+#if AW_FEAT_REFLECTION
+  for (uint i = 0u; i < 2u; ++i) {
+    if (!(m->refl[i].weight > 0.0f)) continue;
+    ReflectionParams p = material_reflection_params(m, i, entering);
+    float3 h = reflection_sample_normal(p, wo, u);
+    f[i] = clamp(fresnel_eval(p.fresnel, clamp(dot(wo, h), 0.0f, 1.0f)), 0.0f, 1.0f);
+  }
+#endif
+  return material_lobe_weights_f(m, f[0], f[1], entering);
+}
+
 
 AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
 
