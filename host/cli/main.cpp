@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> defines;
   std::string kernel_dir = aw::default_kernel_dir();
   unsigned pool = 0;
+  double dense_fraction = -1.0;
   app.add_option("scene", scene_path, "Scene file (JSON)");
   app.add_option("-o,--output", output, "Output EXR (default: <scene name>.exr); the PNG preview goes beside it");
   app.add_option("--spp", spp, "Samples per pixel (overrides render.spp)");
@@ -91,6 +92,11 @@ int main(int argc, char** argv) {
                  "Load kernel sources from this kernels/ directory instead of the embedded copy "
                  "(development; also $ARCHWAVE_KERNEL_DIR)");
   app.add_option("--pool", pool, "Path states in flight on the device (default 262144, or $ARCHWAVE_POOL)");
+  app.add_option("--dense-fraction", dense_fraction,
+                 "Queues holding at least this share of the path pool are consumed in slot order, one "
+                 "work-item per slot (default 0.25; 0 = always, above 1 = never; for measurement, the "
+                 "image does not change)")
+      ->check(CLI::Range(0.0, 1e9));
   app.add_option("--threads", threads, "Threads for --scalar (default: all cores)");
   app.add_flag("--no-progress", no_progress, "No progress line (it is also off when stderr is not a terminal)");
   app.add_flag("-q,--quiet", quiet, "No stats summary");
@@ -127,6 +133,7 @@ int main(int argc, char** argv) {
     aw::RenderOptions opts;
     opts.device = device;
     opts.pool_size = pool;
+    opts.dense_fraction = dense_fraction;
     opts.generic_kernels = generic;
     opts.threads = threads;
     opts.kernel_dir = kernel_dir;

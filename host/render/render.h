@@ -16,6 +16,9 @@ struct RenderOptions {
   int device = 0;             // OpenCL device index (wavefront only)
   uint32_t pool_size = 0;     // path states in flight; 0 = default (2^18, or $ARCHWAVE_POOL)
   uint32_t max_batch = 0;     // jobs per film batch; 0 = default (4 × pool)
+  // Queues holding at least this share of the pool run as dense launches (slot order, see
+  // host/render/wavefront.cpp); negative = the default. 0 = always dense, > 1 = never.
+  double dense_fraction = -1.0;
   int threads = 0;            // scalar path threads; 0 = hardware concurrency
   bool progress = false;      // progress line on stderr
   std::string kernel_dir;     // "" = embedded kernels

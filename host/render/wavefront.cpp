@@ -32,6 +32,7 @@ namespace {
 // (accumulate: 0.24 s -> 0.07 s for 2.6M paths on the Cornell box); the heavy stages do not
 // care.
 constexpr uint32_t kWorkGroup = 256;
+constexpr double kDenseFraction = 0.25;  // see dense_fraction below
 
 size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWorkGroup; }
 
@@ -110,6 +111,9 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     // All queues in one buffer: queue i at [i * pool, (i + 1) * pool).
     cl::Buffer queues = rt.buffer("queues", size_t(AW_Q_COUNT) * pool * 4);
     cl::Buffer counters = rt.buffer("queue counters", AW_Q_COUNT * 4);
+    // The queue each slot is in (kernels.cl: wg_append, AW_DENSE_ITEM); all free at the start
+    // of every batch.
+    cl::Buffer tags = rt.buffer("queue tags", size_t(pool) * 4);
     std::vector<uint32_t> zero_stats(AW_STAT_COUNT, 0);
     cl::Buffer stats = upload(rt, "stats counters", zero_stats, CL_MEM_READ_WRITE);
     cl::Buffer samples = rt.buffer("batch samples", size_t(max_batch) * 3 * 4);
@@ -138,10 +142,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     auto make = [&](const char* name, const char* kernel) { return Stage{name, cl::Kernel(program, kernel)}; };
     Stage regen = make("regenerate", "regenerate");
     regen.kernel.setArg(1, sf); regen.kernel.setArg(2, su); regen.kernel.setArg(3, queues);
-    regen.kernel.setArg(4, counters);
+    regen.kernel.setArg(4, counters); regen.kernel.setArg(7, tags);
     Stage isect = make("intersect_closest", "intersect_closest");
     isect.kernel.setArg(1, sf); isect.kernel.setArg(2, su); isect.kernel.setArg(3, queues);
     isect.kernel.setArg(5, nodes); isect.kernel.setArg(6, tris); isect.kernel.setArg(7, lights);
+    isect.kernel.setArg(9, tags);
     auto shading_args = [&](Stage& s) {
       s.kernel.setArg(1, sf); s.kernel.setArg(2, su); s.kernel.setArg(3, queues); s.kernel.setArg(4, counters);
       s.kernel.setArg(6, tri_info); s.kernel.setArg(7, verts); s.kernel.setArg(8, materials);
@@ -149,8 +154,9 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     };
     Stage classify = make("classify_hit", "classify_hit_stage");
     shading_args(classify);
+    classify.kernel.setArg(11, tags);
     Stage pass = make("pass_through", "pass_through");
-    pass.kernel.setArg(1, queues); pass.kernel.setArg(2, counters);
+    pass.kernel.setArg(1, queues); pass.kernel.setArg(2, counters); pass.kernel.setArg(4, tags);
     const char* lobe_kernels[AW_LID_COUNT] = {"shade_diffuse", "shade_translucency", "shade_reflection",
                                               "shade_reflection2", "shade_refraction"};
     std::vector<Stage> shade;  // one per lobe; lobes absent from the build have no kernel
@@ -162,6 +168,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
         shading_args(shade.back());
         shade.back().kernel.setArg(10, snap_f);
         shade.back().kernel.setArg(11, snap_u);
+        shade.back().kernel.setArg(13, tags);
       }
     }
     Stage shadow = make("intersect_shadow", "intersect_shadow");
@@ -171,7 +178,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     Stage accum = make("accumulate", "accumulate");
     accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues);
     accum.kernel.setArg(4, counters); accum.kernel.setArg(6, samples); accum.kernel.setArg(7, stats);
-    accum.kernel.setArg(8, snap_f); accum.kernel.setArg(9, snap_u);
+    accum.kernel.setArg(8, snap_f); accum.kernel.setArg(9, snap_u); accum.kernel.setArg(10, tags);
     Stage filmacc = make("film_accumulate", "film_accumulate");
     filmacc.kernel.setArg(1, samples); filmacc.kernel.setArg(2, film); filmacc.kernel.setArg(3, film_count);
 
@@ -185,6 +192,18 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
       if (s == &filmacc) return -1;
       return 5;
     };
+    // The `dense` argument of the stages that can run over the pool in slot order, or -1.
+    auto dense_arg = [&](const Stage* s) {
+      if (s == &isect || s == &shadow || s == &classify) return s == &isect ? 8 : 10;
+      for (const Stage& l : shade)
+        if (s == &l) return 12;
+      return -1;
+    };
+    // A queue holding at least this share of the pool is consumed by a dense launch: one
+    // work-item per slot, in slot order (kernels.cl, AW_DENSE_ITEM). The scattered slot order
+    // that appends leave behind costs more than the idle work-items of a dense launch once a
+    // queue holds about a quarter of the pool (docs/performance.md, "Dense launches").
+    const double dense_fraction = opts.dense_fraction >= 0.0 ? opts.dense_fraction : kDenseFraction;
 
     // PoCL compiles the work-group function of a kernel at its first launch with a given
     // local size, not at clBuildProgram: launch every stage once on zero items now, so that
@@ -198,6 +217,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
       for (Stage* s : all) {
         s->kernel.setArg(0, sizeof(RenderParams), &rp);
         if (count_arg(s) >= 0) s->kernel.setArg(count_arg(s), 0u);
+        if (dense_arg(s) >= 0) s->kernel.setArg(dense_arg(s), 0u);
         if (s == &regen) s->kernel.setArg(6, 0u);
         for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
           q.enqueueNDRangeKernel(s->kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
@@ -217,7 +237,10 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
       if (counts) push_counters();
       s.kernel.setArg(0, sizeof(RenderParams), &rp);
       if (count_arg(&s) >= 0) s.kernel.setArg(count_arg(&s), uint32_t(n));
-      q.enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(pad_to_group(n)), cl::NDRange(kWorkGroup));
+      bool dense = dense_arg(&s) >= 0 && double(n) >= dense_fraction * double(pool);
+      if (dense_arg(&s) >= 0) s.kernel.setArg(dense_arg(&s), uint32_t(dense));
+      size_t global = dense ? size_t(pool) : pad_to_group(n);  // pool is a multiple of the group
+      q.enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
       if (counts) pull_counters();
       else q.finish();
       s.seconds += since(t0);
@@ -233,6 +256,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
       rp.batch_sample = uint32_t(jobs_done / npix);
       rp.job_count = batch;
       q.enqueueWriteBuffer(queues, CL_TRUE, size_t(AW_Q_FREE) * pool * 4, size_t(pool) * 4, identity.data());
+      q.enqueueFillBuffer(tags, uint32_t(AW_Q_FREE), 0, size_t(pool) * 4);
       std::fill(cnt, cnt + AW_Q_COUNT, 0u);
       cnt[AW_Q_FREE] = pool;
       uint32_t next_job = 0, issue_limit = batch;

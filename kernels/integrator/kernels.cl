@@ -29,8 +29,11 @@
 // queue, then one global atomic per non-empty queue reserves the group's range (~6x faster
 // than a global atomic per item on PoCL, DESIGN.md). `q` is the item's queue, or AW_Q_COUNT
 // for none. Must be reached by every work-item of the group.
-static inline void wg_append(__global uint* counters, __global uint* queues, uint pool, uint q, uint slot,
-                             __local uint* l_n, __local uint* l_base) {
+// It also records the queue in the slot's tag (tags[slot]), which is what a dense launch of
+// the queue's consumer tests (see AW_DENSE_ITEM below). SHADOW is not a tag: a path in it is
+// also in a main queue, and the consumer tests AW_PATH_HAS_SHADOW instead.
+static inline void wg_append(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
+                             uint q, uint slot, __local uint* l_n, __local uint* l_base) {
   uint lid = get_local_id(0);
   if (lid < AW_Q_COUNT) l_n[lid] = 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
@@ -38,9 +41,28 @@ static inline void wg_append(__global uint* counters, __global uint* queues, uin
   barrier(CLK_LOCAL_MEM_FENCE);
   if (lid < AW_Q_COUNT) l_base[lid] = l_n[lid] > 0u ? atomic_add(&counters[lid], l_n[lid]) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (q < AW_Q_COUNT) queues[q * pool + l_base[q] + off] = slot;
+  if (q < AW_Q_COUNT) {
+    queues[q * pool + l_base[q] + off] = slot;
+    if (q != AW_Q_SHADOW) tags[slot] = q;
+  }
   barrier(CLK_LOCAL_MEM_FENCE);  // l_n / l_base are reused by the next append
 }
+
+// Which slot work-item i works on, and whether it has one. A queue launch (dense == 0) runs
+// `count` work-items over the queue's entries. A dense launch (dense != 0) runs one work-item
+// per pool slot, in slot order, and works on the slots whose tag is `qid`: the same set of
+// paths, since every append also sets the tag (wg_append). The host launches dense when a
+// queue holds most of the pool: neighbouring work-items then touch neighbouring words of
+// the SoA state instead of slots scattered by earlier appends (docs/performance.md has the
+// measurement).
+#define AW_DENSE_ITEM(qid, slot_out, active_out)                        \
+  if (dense) {                                                         \
+    slot_out = i;                                                      \
+    active_out = i < rp.pool_size && tags[i] == (uint)(qid);           \
+  } else {                                                             \
+    slot_out = i < count ? AW_QUEUE(qid)[i] : 0u;                      \
+    active_out = i < count;                                            \
+  }
 
 #define AW_PATH_REF(slot_index) \
   PathRef ps;                   \
@@ -62,7 +84,7 @@ static inline void wg_append(__global uint* counters, __global uint* queues, uin
 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void regenerate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
-                __global uint* counters, uint count, uint job_start) {
+                __global uint* counters, uint count, uint job_start, __global uint* tags) {
   __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
   uint q = AW_Q_COUNT;
@@ -73,16 +95,19 @@ void regenerate(const RenderParams rp, __global float* sf, __global uint* su, __
     generate_camera_ray(ps, &rp, job_start + i);
     q = AW_Q_RAY;
   }
-  wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);
+  wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);
 }
 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void intersect_closest(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
                        uint count, __global const float4* nodes, __global const float4* tris,
-                       __global const LightGpu* lights) {
+                       __global const LightGpu* lights, uint dense, __global const uint* tags) {
   uint i = get_global_id(0);
-  if (i >= count) return;
-  AW_PATH_REF(AW_QUEUE(AW_Q_RAY)[i]);
+  uint slot;
+  int active;
+  AW_DENSE_ITEM(AW_Q_RAY, slot, active);
+  if (!active) return;
+  AW_PATH_REF(slot);
   float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
   float tmin = PS_F(ps, ray_tmin);
   TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, tmin, FLT_MAX, 0);
@@ -96,28 +121,30 @@ __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void classify_hit_stage(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
                         __global uint* counters, uint count, __global const TriangleInfo* tri_info,
                         __global const VertexData* verts, __global const MaterialGpu* materials,
-                        __global const LightGpu* lights) {
+                        __global const LightGpu* lights, uint dense, __global uint* tags) {
   __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
   uint q = AW_Q_COUNT;
-  uint slot = 0u;
-  if (i < count) {
-    slot = AW_QUEUE(AW_Q_RAY)[i];
+  uint slot;
+  int active;
+  AW_DENSE_ITEM(AW_Q_RAY, slot, active);
+  if (active) {
     AW_PATH_REF(slot);
     AW_SCENE_REF;
     q = (uint)classify_hit(ps, sc, &rp);
   }
-  wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);
+  wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);
 }
 
 // Cutout pass-through: classify_hit consumed the RAY queue, so these wait in PASS until the
 // RAY queue can take new rays.
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void pass_through(const RenderParams rp, __global uint* queues, __global uint* counters, uint count) {
+void pass_through(const RenderParams rp, __global uint* queues, __global uint* counters, uint count,
+                  __global uint* tags) {
   __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
   uint slot = i < count ? AW_QUEUE(AW_Q_PASS)[i] : 0u;
-  wg_append(counters, queues, rp.pool_size, i < count ? AW_Q_RAY : AW_Q_COUNT, slot, l_n, l_base);
+  wg_append(counters, queues, tags, rp.pool_size, i < count ? AW_Q_RAY : AW_Q_COUNT, slot, l_n, l_base);
 }
 
 // One shading kernel per lobe queue (kernels/integrator/shade_surface.h).
@@ -126,13 +153,15 @@ void pass_through(const RenderParams rp, __global uint* queues, __global uint* c
       const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,               \
       __global uint* counters, uint count, __global const TriangleInfo* tri_info,                       \
       __global const VertexData* verts, __global const MaterialGpu* materials,                          \
-      __global const LightGpu* lights, __global float* snap_f, __global uint* snap_u) {                 \
+      __global const LightGpu* lights, __global float* snap_f, __global uint* snap_u, uint dense,        \
+      __global uint* tags) {                                                                             \
     __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];                                                    \
     uint i = get_global_id(0);                                                                           \
     uint q = AW_Q_COUNT, qs = AW_Q_COUNT;                                                                \
-    uint slot = 0u;                                                                                      \
-    if (i < count) {                                                                                     \
-      slot = AW_QUEUE(AW_Q_LOBE + (lid))[i];                                                             \
+    uint slot;                                                                                           \
+    int active;                                                                                          \
+    AW_DENSE_ITEM(AW_Q_LOBE + (lid), slot, active);                                                      \
+    if (active) {                                                                                        \
       AW_PATH_REF(slot);                                                                                 \
       ps.snap_f = snap_f;                                                                                \
       ps.snap_u = snap_u;                                                                                \
@@ -140,8 +169,8 @@ void pass_through(const RenderParams rp, __global uint* queues, __global uint* c
       q = (uint)shade_surface(ps, sc, &rp, (lid));                                                       \
       if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) qs = AW_Q_SHADOW;                                         \
     }                                                                                                    \
-    wg_append(counters, queues, rp.pool_size, qs, slot, l_n, l_base);                                    \
-    wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);                                     \
+    wg_append(counters, queues, tags, rp.pool_size, qs, slot, l_n, l_base);                                    \
+    wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);                                     \
   }
 
 // Only the lobes this build has (kernels/common/features.h); the host launches only these.
@@ -161,10 +190,19 @@ __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
                       uint count, __global const float4* nodes, __global const float4* tris,
                       __global const LightGpu* lights, __global const TriangleInfo* tri_info,
-                      __global const MaterialGpu* materials) {
+                      __global const MaterialGpu* materials, uint dense) {
   uint i = get_global_id(0);
-  if (i >= count) return;
-  AW_PATH_REF(AW_QUEUE(AW_Q_SHADOW)[i]);
+  uint slot;
+  int active;
+  if (dense) {  // SHADOW is not a tag (wg_append): the path's flag says it has a shadow ray
+    slot = i;
+    active = i < rp.pool_size && (su[(uint)AW_SU_flags * rp.pool_size + i] & AW_PATH_HAS_SHADOW) != 0u;
+  } else {
+    slot = i < count ? AW_QUEUE(AW_Q_SHADOW)[i] : 0u;
+    active = i < count;
+  }
+  if (!active) return;
+  AW_PATH_REF(slot);
   float3 o = ps_shadow_origin(ps), d = ps_shadow_dir(ps);
   float tmax = PS_F(ps, sh_tmax);
 #if AW_FEAT_CUTOUT
@@ -199,7 +237,7 @@ void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* 
 __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
                 __global uint* counters, uint count, __global float* samples, __global uint* stats,
-                __global float* snap_f, __global uint* snap_u) {
+                __global float* snap_f, __global uint* snap_u, __global uint* tags) {
   __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
   uint i = get_global_id(0);
   uint slot = 0u;
@@ -224,7 +262,7 @@ void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __
       samples[job * 3u + 2u] = l.z;
     }
   }
-  wg_append(counters, queues, rp.pool_size, q, slot, l_n, l_base);
+  wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);
 }
 
 // Adds a finished batch to the film, one work-item per pixel, samples in increasing sample

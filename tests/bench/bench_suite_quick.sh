@@ -14,6 +14,7 @@ for section in "Machine and run" "Sample-count sweeps" "Knob sweeps at equal tim
                "Kernel specialisation" "Scaling" "Devices"; do
   grep -q "^## $section" "$report" || { echo "report.md lacks the section '$section'" >&2; exit 1; }
 done
+grep -q "^### Dense launches vs queue launches" "$report" || { echo "report.md lacks the dense-launch table" >&2; exit 1; }
 plots=$(grep -o '([a-z_]*\.png)' "$report" | tr -d '()' | sort -u)
 [ "$(echo "$plots" | wc -w)" -ge 6 ] || { echo "report.md links too few plots: $plots" >&2; exit 1; }
 for p in $plots; do
