@@ -967,8 +967,12 @@ class Suite:
             "a loop body that contains OpenCL vector types (\"instruction return type cannot be "
             "vectorized\" with `POCL_VECTORIZER_REMARKS=1`; a minimal kernel doing its arithmetic on a "
             "`float3` stays scalar while the same arithmetic on three floats runs 8 lanes wide), and the "
-            "kernels do their geometry in `float3`. The wavefront exists for GPUs, where the same kernels "
-            "run unchanged; on PoCL, kernel headers whose arithmetic is on scalars would be the next step.\n")
+            "kernels do their geometry in `float3`. Writing it on scalars would not be enough either: "
+            "when PoCL builds the program, LLVM (evidently its SLP vectoriser) packs isomorphic scalar "
+            "operations (x, y, z or r, g, b) into short vectors, which blocks the work-item loop just the "
+            "same (seen on a synthetic diffuse stage written on scalars, which drew the same remark), and "
+            "PoCL 3.1 accepts no build option to turn that off. The wavefront exists for GPUs, where the "
+            "same kernels run unchanged.\n")
         return "\n".join(md)
 
     # ---- 4. specialisation ------------------------------------------------------------------
@@ -1030,10 +1034,10 @@ class Suite:
                "Fusing a whole Lambert bounce into one kernel was not faster (an earlier session); fusing "
                "classification and shading for a single-lobe build gained ~5% and was not kept. Where "
                "specialisation should pay: on a GPU (absent code also frees registers and raises "
-               "occupancy; no GPU has been lent to this project's sessions yet), and on PoCL once the "
-               "kernels vectorise, since the generic build's cutout-stepping loop and transcendental calls "
-               "(EON's `acos`, sphere-light sampling) would keep it scalar where a Lambert-only build "
-               "could be written to vectorise.") + "\n",
+               "occupancy; no GPU has been lent to this project's sessions yet), and on a CPU OpenCL "
+               "that vectorises work-items, where the generic build's cutout-stepping loop and "
+               "transcendental calls (EON's `acos`, sphere-light sampling) would keep it scalar while a "
+               "Lambert-only build might not be.") + "\n",
             "### Kernel build cost\n",
             "PoCL compiles a program at `clBuildProgram` and each kernel's work-group function at its first "
             "launch with a given local size; archwave launches every stage once on zero items right after "
