@@ -10,6 +10,7 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -96,7 +97,15 @@ int main(int argc, char** argv) {
                  "Queues holding at least this share of the path pool are consumed in slot order, one "
                  "work-item per slot (default 0.25; 0 = always, above 1 = never; for measurement, the "
                  "image does not change)")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            char* end = nullptr;
+            double d = std::strtod(v.c_str(), &end);
+            if (end == v.c_str() || *end != '\0' || !(d >= 0.0))
+              return "'" + v + "' is not a share of the pool (a number >= 0: 0 = always dense, above 1 = never)";
+            return {};
+          },
+          "F >= 0"));
   app.add_option("--threads", threads, "Threads for --scalar (default: all cores)");
   app.add_flag("--no-progress", no_progress, "No progress line (it is also off when stderr is not a terminal)");
   app.add_flag("-q,--quiet", quiet, "No stats summary");

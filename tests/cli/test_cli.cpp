@@ -121,6 +121,15 @@ TEST(CliBadInput, UnknownFlagIsAUsageError) {
   EXPECT_EQ(r.code, 2) << r.err;
 }
 
+TEST(CliBadInput, BadDenseFractionIsAUsageErrorNamingTheFlag) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  for (const char* value : {"-1", "half"}) {
+    CliRun r = run(scene + " -o " + scratch() + "/x.exr --dense-fraction " + value);
+    EXPECT_EQ(r.code, 2) << value << ": " << r.err;
+    EXPECT_NE(r.err.find("--dense-fraction"), std::string::npos) << value << ": " << r.err;
+  }
+}
+
 TEST(CliBadInput, BadDeviceIndexListsDevices) {
   std::string scene = write_scene("ok.json", kMinimal);
   CliRun r = run(scene + " --device 99 -o " + scratch() + "/x.exr");
@@ -144,7 +153,7 @@ TEST(Cli, HelpDocumentsEveryFlag) {
   std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const char* flag : {"--output", "--spp", "--seed", "--width", "--height", "--device", "--scalar",
                            "--list-devices", "--define", "--kernels", "--pool", "--quiet", "--generic-kernels",
-                           "--stats-json"})
+                           "--stats-json", "--dense-fraction"})
     EXPECT_NE(help.find(flag), std::string::npos) << flag;
 }
 
