@@ -194,7 +194,8 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     };
     // The `dense` argument of the stages that can run over the pool in slot order, or -1.
     auto dense_arg = [&](const Stage* s) {
-      if (s == &isect || s == &shadow || s == &classify) return s == &isect ? 8 : 10;
+      if (s == &isect) return 8;
+      if (s == &classify || s == &shadow) return 10;
       for (const Stage& l : shade)
         if (s == &l) return 12;
       return -1;
@@ -202,7 +203,7 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
     // A queue holding at least this share of the pool is consumed by a dense launch: one
     // work-item per slot, in slot order (kernels.cl, AW_DENSE_ITEM). The scattered slot order
     // that appends leave behind costs more than the idle work-items of a dense launch once a
-    // queue holds about a quarter of the pool (docs/performance.md, "Dense launches").
+    // queue holds about a quarter of the pool (docs/architecture.md, "Dense launches").
     const double dense_fraction = opts.dense_fraction >= 0.0 ? opts.dense_fraction : kDenseFraction;
 
     // PoCL compiles the work-group function of a kernel at its first launch with a given
