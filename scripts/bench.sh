@@ -5,10 +5,6 @@
 # --update-docs (copies the report to docs/performance.md and the plots to docs/perf/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-bash scripts/build.sh
-# PoCL's kernel cache inside the build tree, shared with the tests; the suite makes its own
-# empty caches where it measures cold builds.
-export POCL_CACHE_DIR="$PWD/build/pocl-cache"
-mkdir -p "$POCL_CACHE_DIR"
+# The suite makes its own empty PoCL caches where it measures cold builds.
+source scripts/prepare.sh
 exec python3 scripts/bench_suite.py "$@"

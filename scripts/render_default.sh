@@ -3,7 +3,5 @@
 # cornell.exr and cornell.png in the current directory of the repository.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-bash scripts/build.sh
-export POCL_CACHE_DIR="$PWD/build/pocl-cache"
+source scripts/prepare.sh
 ./build/archwave scenes/cornell.json -o cornell.exr "$@"

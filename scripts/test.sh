@@ -4,10 +4,6 @@
 # ARCHWAVE_FULL_BUDGET=1 runs them at full size (see docs/testing.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
-bash scripts/build.sh
-# PoCL's kernel cache inside the build tree: tests and CI steps reuse compiled kernels.
-export POCL_CACHE_DIR="$PWD/build/pocl-cache"
-mkdir -p "$POCL_CACHE_DIR"
+source scripts/prepare.sh
 jobs=$(nproc 2>/dev/null || echo 2)
 ctest --test-dir build --output-on-failure -j"$jobs" --timeout 600 "$@"
