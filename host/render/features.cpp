@@ -57,11 +57,17 @@ FeatureSet derive_features(const PackedScene& scene) {
                     AW_FEATBIT_ROUGH_DIFFUSE == 1u << FeatureSet::ROUGH_DIFFUSE &&
                     AW_FEATBIT_ANISOTROPY == 1u << FeatureSet::ANISOTROPY && AW_FEATBIT_FOG == 1u << FeatureSet::FOG &&
                     AW_FEATBIT_CUTOUT == 1u << FeatureSet::CUTOUT &&
-                    AW_FEATBIT_INCANDESCENCE == 1u << FeatureSet::INCANDESCENCE,
-                "feature bits follow AW_FEATURE_LIST");
+                    AW_FEATBIT_INCANDESCENCE == 1u << FeatureSet::INCANDESCENCE &&
+                    AW_FEATBIT_BRDF_BECKMANN == 1u << FeatureSet::BRDF_BECKMANN &&
+                    AW_FEATBIT_BRDF_AS == 1u << FeatureSet::BRDF_AS &&
+                    AW_FEATBIT_FRESNEL_CONDUCTOR == 1u << FeatureSet::FRESNEL_CONDUCTOR &&
+                    AW_FEATBIT_FRESNEL_CURVE == 1u << FeatureSet::FRESNEL_CURVE &&
+                    AW_FEATBIT_THIN_WALLED == 1u << FeatureSet::THIN_WALLED &&
+                    AW_FEAT_MATERIAL_COUNT == FeatureSet::THIN_WALLED + 1,
+                "feature bits follow AW_FEATURE_LIST, material features first");
   uint32_t used = 0;
   for (const MaterialGpu& m : scene.materials) used |= material_features(&m);
-  for (int i = 0; i <= FeatureSet::INCANDESCENCE; ++i) f.on[i] = (used >> i) & 1u;
+  for (int i = 0; i < AW_FEAT_MATERIAL_COUNT; ++i) f.on[i] = (used >> i) & 1u;
   for (const LightGpu& l : scene.lights) {
     if (l.type == AW_LIGHT_POINT) f.on[FeatureSet::LIGHT_POINT] = true;
     if (l.type == AW_LIGHT_QUAD) f.on[FeatureSet::LIGHT_QUAD] = true;

@@ -32,7 +32,7 @@ AW_FN LobeSetup lobe_setup(const AW_GLOBAL MaterialGpu* m, uint lid, int front) 
   l.roughness = 0.0f;
   l.thin = 0;
   l.glossiness = 1.0f;
-  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  int thin = material_is_thin(m);
   if (lid == AW_LID_DIFFUSE) {
     l.color = load_f3(m->diffuse_color);
 #if AW_FEAT_ROUGH_DIFFUSE
@@ -185,7 +185,7 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
     PS_U(ps, depths) = depths + 0x10000u;
     // Crossing a foggy object's surface: the path is inside its fog until it leaves. (A
     // totally internally reflected path does not cross.)
-    if (!(m->flags & AW_MAT_THIN_WALLED) && m->fog_distance > 0.0f && (s.flags & AW_LOBE_TRANSMISSION))
+    if (!material_is_thin(m) && m->fog_distance > 0.0f && (s.flags & AW_LOBE_TRANSMISSION))
       PS_U(ps, medium) = front ? PS_U(ps, material) : AW_NONE;
   } else if (!rp->gi) {
     // gi off (the documentation's "no GI" examples): no indirect diffuse. The bounce is still

@@ -9,6 +9,7 @@
 #define AW_LOBES_FRESNEL_H
 
 #include "common/compat.h"
+#include "common/features.h"
 
 #define AW_FRESNEL_DIELECTRIC 0u
 #define AW_FRESNEL_CONDUCTOR 1u
@@ -110,10 +111,13 @@ AW_FN float thin_wall_reflectance(float R) {
   return 2.0f * R / (1.0f + R);
 }
 
+// Modes a specialised build lacks fold away (common/features.h; the dielectric is always built).
 AW_FN float fresnel_eval(FresnelParams f, float cos_i) {
-  if (f.mode == AW_FRESNEL_CONDUCTOR) return fresnel_conductor(cos_i, f.eta, f.k);
-  if (f.mode == AW_FRESNEL_CURVE) return fresnel_curve(cos_i, f.facing, f.perpendicular, f.curve);
-  if (f.mode == AW_FRESNEL_THIN_DIELECTRIC) return thin_wall_reflectance(fresnel_dielectric(cos_i, f.eta));
+  if (AW_FEAT_FRESNEL_CONDUCTOR && f.mode == AW_FRESNEL_CONDUCTOR) return fresnel_conductor(cos_i, f.eta, f.k);
+  if (AW_FEAT_FRESNEL_CURVE && f.mode == AW_FRESNEL_CURVE)
+    return fresnel_curve(cos_i, f.facing, f.perpendicular, f.curve);
+  if (AW_FEAT_THIN_WALLED && f.mode == AW_FRESNEL_THIN_DIELECTRIC)
+    return thin_wall_reflectance(fresnel_dielectric(cos_i, f.eta));
   return fresnel_dielectric(cos_i, f.eta);
 }
 

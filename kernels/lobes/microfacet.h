@@ -29,10 +29,14 @@
 #define AW_LOBES_MICROFACET_H
 
 #include "common/compat.h"
+#include "common/features.h"
 #include "common/sampling.h"
 
 #define AW_MF_BECKMANN 0u
 #define AW_MF_GGX 1u
+// Beckmann code exists only in builds with a Beckmann reflection lobe (common/features.h);
+// GGX, the default and refraction's distribution, is always built.
+#define AW_MF_IS_BECKMANN(m) (AW_FEAT_BRDF_BECKMANN && (m).dist == AW_MF_BECKMANN)
 
 // alpha below this is a perfect mirror / smooth interface: a delta lobe (MATERIAL.md §3).
 #define AW_MF_MIRROR_ALPHA 1e-3f
@@ -154,7 +158,7 @@ AW_FN float mf_D(Microfacet m, float3 h) {
   float sy = h.y / m.ay;
   float s2 = sx * sx + sy * sy;  // tan^2(theta) * (cos^2/ax^2 + sin^2/ay^2) * hz^2
   float z2 = h.z * h.z;
-  if (m.dist == AW_MF_BECKMANN) {
+  if (AW_MF_IS_BECKMANN(m)) {
     float e = s2 / z2;
     // exp(-80) ~ 2e-35: beyond it D is 0 in float for every alpha in range (and hz^4 could
     // underflow to 0 next to an exp that already did).
@@ -194,7 +198,7 @@ AW_FN float mf_proj_excess(Microfacet m, float3 w) {
   float wz = fmax(w.z, 0.0f);
   float A = mf_projected_roughness_sin(m, w);
   if (!(A > 0.0f)) return 0.0f;  // normal incidence: no masking
-  if (m.dist == AW_MF_BECKMANN) {
+  if (AW_MF_IS_BECKMANN(m)) {
     float a = wz / A;
     // erfc(a) = scaled(a) exp(-a^2): both terms share exp(-a^2).
     float v = exp(-a * a) * (A * (0.5f * AW_MF_INV_SQRT_PI) - 0.5f * wz * mf_erfc_scaled_pos(a));
@@ -353,7 +357,7 @@ AW_FN float3 mf_sample_visible_beckmann(Microfacet m, float3 wo, float2 u) {
 // wo.z > 0 (returns +z otherwise).
 AW_FN float3 mf_sample_visible(Microfacet m, float3 wo, float2 u) {
   if (!(wo.z > 0.0f)) return make_float3(0.0f, 0.0f, 1.0f);
-  if (m.dist == AW_MF_BECKMANN) return mf_sample_visible_beckmann(m, wo, u);
+  if (AW_MF_IS_BECKMANN(m)) return mf_sample_visible_beckmann(m, wo, u);
   return mf_sample_visible_ggx(m, wo, u);
 }
 

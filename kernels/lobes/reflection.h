@@ -58,8 +58,8 @@ AW_FN ReflectionParams reflection_params_make(float3 tint, uint brdf, float glos
   p.tint = tint;
   p.brdf = brdf;
   p.fresnel = f;
-  float alpha = brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY ? as_legacy_alpha(glossiness)
-                                                          : glossiness_to_alpha(glossiness);
+  float alpha = (AW_FEAT_BRDF_AS && brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY) ? as_legacy_alpha(glossiness)
+                                                                              : glossiness_to_alpha(glossiness);
   p.mf.dist = brdf == AW_BRDF_BECKMANN ? AW_MF_BECKMANN : AW_MF_GGX;
   if (alpha < AW_MF_MIRROR_ALPHA) {
     p.mf.ax = alpha;
@@ -71,8 +71,9 @@ AW_FN ReflectionParams reflection_params_make(float3 tint, uint brdf, float glos
   return p;
 }
 
+// Builds without an Ashikhmin–Shirley lobe (common/features.h) compile its code out here.
 AW_FN int reflection_is_as(ReflectionParams p) {
-  return p.brdf == AW_BRDF_ASHIKHMIN_SHIRLEY || p.brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY;
+  return AW_FEAT_BRDF_AS && (p.brdf == AW_BRDF_ASHIKHMIN_SHIRLEY || p.brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY);
 }
 
 AW_FN int reflection_is_delta(ReflectionParams p) {

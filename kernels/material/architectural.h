@@ -21,6 +21,12 @@ typedef struct {
   float albedo[AW_LID_COUNT];  // luminance of each lobe's estimated contribution
 } LobeWeights;
 
+// refraction.thin_walled, in builds that have thin walls (common/features.h: a material that
+// sets it without reflecting or transmitting anything is shaded the same either way).
+AW_FN int material_is_thin(const AW_GLOBAL MaterialGpu* m) {
+  return AW_FEAT_THIN_WALLED && (m->flags & AW_MAT_THIN_WALLED) != 0u;
+}
+
 // Relative IOR n_far / n_near for a ray arriving from the `entering` side. Thin walls look
 // the same from both sides.
 AW_FN float material_eta(float ior, int entering, int thin) {
@@ -52,7 +58,7 @@ AW_FN ReflectionParams material_reflection_params(const AW_GLOBAL MaterialGpu* m
   const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
   float3 tint = load_f3(r->color);
   if (i == 0u && (m->flags & AW_MAT_METAL)) tint = tint * load_f3(m->diffuse_color);
-  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  int thin = material_is_thin(m);
   return reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, entering, thin));
 }
 
@@ -78,7 +84,7 @@ AW_FN void material_reflection_frame(const AW_GLOBAL MaterialGpu* m, float3 n, f
 // without weight).
 AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float f1, float f2, int entering) {
   LobeWeights lw;
-  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  int thin = material_is_thin(m);
   int metal = (m->flags & AW_MAT_METAL) != 0u;
   float3 diffuse = load_f3(m->diffuse_color);
   float3 zero = make_float3(0.0f, 0.0f, 0.0f);
@@ -149,7 +155,7 @@ AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float 
 // `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
 // refractive object is subject to skip_weak_internal_reflections).
 AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
-  int thin = (m->flags & AW_MAT_THIN_WALLED) != 0u;
+  int thin = material_is_thin(m);
   float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
   float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
   return material_lobe_weights_f(m, f1, f2, entering);
@@ -187,12 +193,20 @@ AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0
 // every hit checks it against the build, so a specialised build can never silently render a
 // material differently.
 AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
-  int refl = (m->refl[0].weight > 0.0f && positive3(m->refl[0].color)) ||
-             (m->refl[1].weight > 0.0f && positive3(m->refl[1].color));
+  uint f = 0u;
+  int refl = 0;
+  for (uint i = 0u; i < 2u; ++i) {
+    const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
+    if (!(r->weight > 0.0f && positive3(r->color))) continue;  // a lobe without energy
+    refl = 1;
+    if (r->brdf == AW_BRDF_BECKMANN) f |= AW_FEATBIT_BRDF_BECKMANN;
+    if (r->brdf == AW_BRDF_ASHIKHMIN_SHIRLEY || r->brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY) f |= AW_FEATBIT_BRDF_AS;
+    if (r->fresnel_mode == AW_FRESNEL_CONDUCTOR) f |= AW_FEATBIT_FRESNEL_CONDUCTOR;
+    if (r->fresnel_mode == AW_FRESNEL_CURVE) f |= AW_FEATBIT_FRESNEL_CURVE;
+  }
   int transmit = m->refr_weight > 0.0f;
   int transl = transmit && (m->flags & AW_MAT_TRANSLUCENCY) && m->transl_weight > 0.0f;
   int refr = transmit && !(transl && m->transl_weight >= 1.0f);
-  uint f = 0u;
   if (transl) f |= AW_FEATBIT_TRANSLUCENCY;
   if (refl) f |= AW_FEATBIT_REFLECTION;
   if (refr) f |= AW_FEATBIT_REFRACTION;
@@ -201,6 +215,7 @@ AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
   if (refr && m->fog_distance > 0.0f) f |= AW_FEATBIT_FOG;
   if (m->cutout_opacity < 0.5f) f |= AW_FEATBIT_CUTOUT;
   if (positive3(m->incandescent)) f |= AW_FEATBIT_INCANDESCENCE;
+  if ((m->flags & AW_MAT_THIN_WALLED) && (refl || transmit)) f |= AW_FEATBIT_THIN_WALLED;
   return f;
 }
 
