@@ -77,7 +77,8 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   st.device = rt.info().name + " (" + rt.info().platform + ")";
   std::string src = assemble_kernel_source("integrator/kernels.cl", opts.kernel_dir);
   // Model only what the scene requires: specialise the program on the scene's features.
-  FeatureSet features = opts.generic_kernels ? FeatureSet::all() : derive_features(packed);
+  const FeatureSet need = derive_features(packed);
+  FeatureSet features = opts.generic_kernels ? FeatureSet::all() : need;
   for (const std::string& off : opts.force_off)
     for (int i = 0; i < FeatureSet::COUNT; ++i)
       if (off == FeatureSet::name(i)) features.on[i] = false;
@@ -85,15 +86,12 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   // Material features are checked at every hit (classify_hit), lobe splitting where it
   // starts (shade_surface); light types have no such check in the kernels (a compiled-out
   // type would be sampled as another one), so the host refuses the build here.
-  {
-    FeatureSet need = derive_features(packed);
-    std::string lack;
-    for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE})
-      if (need.on[i] && !features.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
-    if (!lack.empty())
-      throw std::logic_error("the scene has lights of a type the specialised kernels lack (" + lack + "; built: " +
-                             st.kernel_features + "); the image would be wrong, so none is rendered");
-  }
+  std::string lack;
+  for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE})
+    if (need.on[i] && !features.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
+  if (!lack.empty())
+    throw std::logic_error("the scene has lights of a type the specialised kernels lack (" + lack + "; built: " +
+                           st.kernel_features + "); the image would be wrong, so none is rendered");
   std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
                         (opts.generic_kernels ? std::string() : features.defines()) + " " + opts.build_options;
   cl::Program program = rt.build(src, options, &st.compile_seconds);
