@@ -2,7 +2,8 @@
 # The benchmark suite in one command (README): install what is missing, build, then run
 # scripts/bench_suite.py, which writes results/<timestamp>/report.md and its plots.
 # Arguments go to the suite, e.g. --quick, --only sweeps,knobs, --budget-minutes 10,
-# --update-docs (copies the report to docs/performance.md and the plots to docs/perf/).
+# --update-docs (rewrites the generated blocks of docs/performance.md, leaving the reasoning
+# around them, and copies the plots to docs/perf/).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # The suite makes its own empty PoCL caches where it measures cold builds.

@@ -1,0 +1,54 @@
+"""The benchmark suite (issue 4): one command, a Markdown report and PNG plots.
+
+Drives the built programs only (build/archwave, build/bench/exr_compare,
+build/bench/bench_traversal), so what it measures is what a user runs. Sections:
+
+  sweeps          error vs spp and vs time against a high-spp reference, log-log slopes
+  knobs           lobe splitting, trace depth, cut-off, Russian roulette at equal time
+  throughput      traversal vs Embree, stage breakdown, memory per path state / triangle
+  specialisation  specialised vs generic kernels: render time, cold and warm builds
+  scaling         time vs triangle count and vs resolution, memory vs resolution
+  devices         the same small table on every OpenCL device and the scalar path
+
+Output: RESULTS/<timestamp>/report.md plus its plots; --update-docs rewrites the generated
+blocks of docs/performance.md (between its BEGIN/END GENERATED markers, leaving the
+hand-written reasoning around them alone) and copies the plots to docs/perf/. References and
+generated meshes are cached under RESULTS/refs and RESULTS/meshes so reruns reuse them.
+
+The code prints numbers, tables and captions saying how each was measured; what the numbers
+mean on a given machine is written in docs/performance.md, against a dated run.
+
+Usage: scripts/bench_suite.py [--build DIR] [--results DIR] [--budget-minutes M] [--quick]
+                              [--only SECTION,...] [--device I] [--update-docs]
+
+Modules: tools (running the programs), scenes, refs (references), errors (error model and
+fits), plots, tables (number and table formatting), report (the report and docs/), context
+(the run's shared state and timed renders), one module per section, cli (flags, run order).
+"""
+
+import importlib.util
+import os
+import sys
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SECTIONS = ("sweeps", "knobs", "throughput", "specialisation", "scaling", "devices")
+# Fixed-size sections run first; what is left of the budget then goes to the adaptive ones
+# (sweeps and knobs), which size themselves from calibration renders.
+RUN_ORDER = ("throughput", "specialisation", "devices", "scaling", "sweeps", "knobs")
+REF_SEED = 1000003  # references use another seed than the renders they judge (seed 0)
+REF_FACTOR = 16     # reference spp over the largest spp it judges, when the budget allows
+LARGE_GRID_JOBS = 1 << 18  # jobs that make every stage launch PoCL's large-grid kernel variant
+DOCS_MARK = "@DOCS@/"  # stands for the path to docs/ in links, resolved when a report is written
+
+
+def reexec_with_numpy(argv):
+    """pyenv or a virtualenv may shadow the Debian interpreter that scripts/setup.sh gives
+    numpy and matplotlib: rather than fail, run `argv` (the same program) under that one.
+    Call before importing anything below that needs them."""
+    if all(importlib.util.find_spec(m) for m in ("numpy", "matplotlib")):
+        return
+    system = "/usr/bin/python3"
+    if os.path.realpath(sys.executable) != os.path.realpath(system) and os.access(system, os.X_OK):
+        os.execv(system, [system] + list(argv))
+    sys.exit("bench_suite: needs numpy and matplotlib (scripts/setup.sh installs python3-numpy "
+             "python3-matplotlib)")
