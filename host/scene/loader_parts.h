@@ -14,7 +14,7 @@ namespace aw {
 namespace scene_detail {
 
 // ---- materials (material_parse.cpp) --------------------------------------------------------
-// Parses one entry of "materials" (MATERIAL.md §1). Out-of-range values are clamped with one
+// Parses one entry of "materials" (docs/material.md §1). Out-of-range values are clamped with one
 // warning per key; unknown keys and wrong types are errors.
 MaterialDesc parse_material(LoadContext& ctx, const Node& n, const std::string& name);
 

@@ -1,10 +1,11 @@
 // JSON parsing that remembers where every key and value came from.
 //
 // nlohmann::json does not record source positions, but scene errors must name FILE:LINE:COL
-// (SCENE_FORMAT.md "Errors"). We therefore drive nlohmann's own parser through its SAX
-// interface with an input iterator that counts the bytes the lexer has consumed, build the DOM
-// ourselves, and note the byte offset of each key and value in a side table keyed by the
-// dotted JSON path ("materials.glass.refraction.ior", arrays as "objects[3].file").
+// (docs/scene-format.md, "Errors and exit codes"). We therefore drive nlohmann's own parser
+// through its SAX interface with an input iterator that counts the bytes the lexer has
+// consumed, build the DOM ourselves, and note the byte offset of each key and value in a side
+// table keyed by the dotted JSON path ("materials.glass.refraction.ior", arrays as
+// "objects[3].file").
 // Private to host/scene.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Every parameter of the Architectural material (../shared/MATERIAL.md §1), with its default.
+// Every parameter of the Architectural material (docs/material.md §1), with its default.
 // Field names follow the scene-file keys. The loader fills this from JSON; the renderer packs
 // what the kernels need into kernels/types/material.h.
 #pragma once

@@ -1,4 +1,4 @@
-// The "materials" section: every key of MATERIAL.md §1, with its default from MaterialDesc.
+// The "materials" section: every key of docs/material.md §1, with its default from MaterialDesc.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -177,7 +177,7 @@ class MaterialParser {
     scalar(g, "ior", kMinIor, kInf, &r->ior);
     boolean(g, "disable_bump", &r->disable_bump);
     boolean(g, "thin_walled", &r->thin_walled);
-    // MATERIAL.md §7: these depend on scene-wide features that come later; they parse now and
+    // docs/material.md §7: these depend on scene-wide features that come later; they parse now and
     // say so when they would change the image.
     boolean(g, "caustics", &r->caustics);
     if (r->caustics) {
@@ -210,7 +210,7 @@ class MaterialParser {
     scalar(g, "threshold", 0, 1, &c->threshold);
   }
 
-  // "materials.glass.refraction.ior" -> "refraction.ior": the key as MATERIAL.md names it.
+  // "materials.glass.refraction.ior" -> "refraction.ior": the key as docs/material.md names it.
   std::string material_key(const std::string& path) const {
     const std::string prefix = join_key(join_key("materials", name_), "");
     return path.compare(0, prefix.size(), prefix) == 0 ? path.substr(prefix.size()) : path;

@@ -1,6 +1,6 @@
 // The loaded, validated scene: what the rest of the renderer consumes.
 //
-// host/scene turns a JSON file (SCENE_FORMAT.md; docs/scene-format.md is our copy) into this
+// host/scene turns a JSON file (docs/scene-format.md) into this
 // structure. Everything here is already validated and defaulted; geometry is triangulated and
 // transformed to world space. Nothing downstream re-reads the JSON.
 #pragma once

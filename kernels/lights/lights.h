@@ -2,7 +2,7 @@
 //
 // Area lights are intersected analytically (not tessellated into the BVH) so that the shape a
 // BSDF-sampled ray hits is exactly the shape light sampling draws from; otherwise MIS weights
-// would disagree at silhouettes of disks and spheres. Units follow SCENE_FORMAT.md: area
+// would disagree at silhouettes of disks and spheres. Units follow docs/scene-format.md: area
 // lights store radiance, point lights radiant intensity.
 #ifndef AW_LIGHTS_LIGHTS_H
 #define AW_LIGHTS_LIGHTS_H

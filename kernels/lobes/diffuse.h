@@ -1,6 +1,6 @@
 // Diffuse reflection: the energy-preserving Oren–Nayar model "EON" (Portsmouth, Kutz & Hill
 // 2025, "EON: A Practical Energy-Preserving Rough Diffuse BRDF", JCGT 14(1); arXiv:2410.18026;
-// "EON paper" below). Roughness 0 is exactly Lambert (MATERIAL.md §3), through its own code
+// "EON paper" below). Roughness 0 is exactly Lambert (docs/material.md §3.1), through its own code
 // path, so renders without roughness do not change by a single bit.
 //
 // The model, in the paper's notation (sigma = roughness in [0, 1], rho = albedo,
@@ -29,9 +29,9 @@
 // so f_ms stays accurate (and 0/0-free) as sigma -> 0; and (S/mu)(1 - S^3) is rewritten as
 // S mu (1 + S + S^2) / (1 + S) (using 1 - S = mu^2 / (1 + S)), which is finite at mu = 0.
 //
-// Sampling: cosine-weighted for every roughness (MATERIAL.md §3 asks for it; the paper's CLTC
-// importance sampling is not implemented). The pdf is exactly cos/pi, so sample weights are
-// pi f: 1 at sigma = 0, and bounded by rho A_F (1 + sigma tan theta_o) + the (smaller)
+// Sampling: cosine-weighted for every roughness (docs/material.md §3.1 asks for it; the paper's
+// CLTC importance sampling is not implemented). The pdf is exactly cos/pi, so sample weights
+// are pi f: 1 at sigma = 0, and bounded by rho A_F (1 + sigma tan theta_o) + the (smaller)
 // multiple-scattering term otherwise — largest at grazing view, where CLTC would reduce
 // variance.
 #ifndef AW_LOBES_DIFFUSE_H

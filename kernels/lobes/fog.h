@@ -1,5 +1,5 @@
-// Fog: absorption inside a refractive object (MATERIAL.md §3 "Fog"), applied by the integrator
-// to every segment a ray travels inside the object, shadow rays included.
+// Fog: absorption inside a refractive object (docs/material.md §3.7 "Fog"), applied by the
+// integrator to every segment a ray travels inside the object, shadow rays included.
 //
 // Both modes are Beer–Lambert attenuation T(d) = exp(-sigma d) of a homogeneous absorbing
 // medium (Beer's law; pbrt-v4, Sec. 11.2 "Transmittance"), with sigma set from the artist's
@@ -22,7 +22,7 @@
 //   0.25 rather than black). The cut to 0 at d >= distance is the spec's "stop": it changes
 //   T by at most 1e-3 and lets the path end.
 //
-// distance <= 0 (or NaN) disables the fog: T = 1 (MATERIAL.md §1: "0 disables"). End colours
+// distance <= 0 (or NaN) disables the fog: T = 1 (docs/material.md §1: "0 disables"). End colours
 // are clamped to [0, 1]: an absorbing medium cannot amplify.
 #ifndef AW_LOBES_FOG_H
 #define AW_LOBES_FOG_H

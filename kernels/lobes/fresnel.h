@@ -1,6 +1,6 @@
 // Fresnel reflectance: exact unpolarised dielectric (with total internal reflection), exact
 // conductor with a scalar complex IOR n + ik, and the artist curve of the Architectural
-// material (MATERIAL.md §3). Scalars only; no lobe state.
+// material (docs/material.md §3.4). Scalars only; no lobe state.
 //
 // All three take cos_i, the cosine between the incident direction and the normal ON THE
 // INCIDENT SIDE (so >= 0; it is clamped to [0, 1]). Inside a microfacet lobe this is the
@@ -95,7 +95,7 @@ AW_FN float fresnel_conductor(float cos_i, float n, float k) {
   return clamp(0.5f * (rs + rp), 0.0f, 1.0f);
 }
 
-// The Architectural material's artist curve (MATERIAL.md §3, from the mia_material
+// The Architectural material's artist curve (docs/material.md §3.4, from the mia_material
 // "BRDF curve"): R = facing + (perpendicular - facing) (1 - cos_i)^curve. Equal facing and
 // perpendicular give exactly `facing` at every angle. curve < 0 is clamped to 0 (a negative
 // exponent would put infinity at normal incidence); pow(0, 0) = 1 on both sides.

@@ -1,7 +1,7 @@
 // Microfacet distributions shared by the reflection and refraction lobes: anisotropic
 // Beckmann and GGX (Trowbridge–Reitz) normal distributions, Smith masking (height-correlated
 // masking-shadowing), visible-normal sampling, and the glossiness/anisotropy → roughness maps
-// of MATERIAL.md §3.
+// of docs/material.md §3.3.
 //
 // USAGE (local shading frame: +z = normal, x = tangent u, y = bitangent v; wo, wi, h unit
 // vectors pointing away from the surface):
@@ -38,9 +38,9 @@
 // GGX, the default and refraction's distribution, is always built.
 #define AW_MF_IS_BECKMANN(m) (AW_FEAT_BRDF_BECKMANN && (m).dist == AW_MF_BECKMANN)
 
-// alpha below this is a perfect mirror / smooth interface: a delta lobe (MATERIAL.md §3).
+// alpha below this is a perfect mirror / smooth interface: a delta lobe (docs/material.md §3.3).
 #define AW_MF_MIRROR_ALPHA 1e-3f
-// alpha is never below this (MATERIAL.md §3), also after the anisotropic squeeze.
+// alpha is never below this (docs/material.md §3.3), also after the anisotropic squeeze.
 #define AW_MF_MIN_ALPHA 1e-4f
 // Lambda of a direction at or below the horizon: finite, large enough that G = 0 in float.
 #define AW_MF_LAMBDA_MAX 1e30f
@@ -53,25 +53,26 @@ typedef struct {
 
 /* ----------------------------- roughness from the material -------------------------------- */
 
-// MATERIAL.md §3: r = 1 - glossiness, alpha = r^2 (documented choice; Redshift publishes none),
-// clamped to >= 1e-4. Glossiness is clamped to [0, 1]; glossiness 1 gives alpha = 1e-4, below
-// AW_MF_MIRROR_ALPHA, i.e. a mirror.
+// docs/material.md §3.3: r = 1 - glossiness, alpha = r^2 (documented choice; Redshift publishes
+// none), clamped to >= 1e-4. Glossiness is clamped to [0, 1]; glossiness 1 gives alpha = 1e-4,
+// below AW_MF_MIRROR_ALPHA, i.e. a mirror.
 AW_FN float glossiness_to_alpha(float g) {
   float r = 1.0f - clamp(g, 0.0f, 1.0f);
   return fmax(r * r, AW_MF_MIN_ALPHA);
 }
 
-// Anisotropy a in [-1, 1] (MATERIAL.md §1: "<0 stretches along u, >0 along v").
+// Anisotropy a in [-1, 1] (docs/material.md §1: "<0 stretches along u, >0 along v"; §3.3).
 // aspect = sqrt(1 - 0.9 |a|); the STRETCHED axis gets alpha / aspect (rougher: the microfacet
 // slopes spread more along it, so highlights and sampled reflections spread along it), the
-// other alpha * aspect. Sign convention, as the sentence in MATERIAL.md §1 says:
+// other alpha * aspect. Sign convention, as the sentence in docs/material.md §1 says:
 //   a < 0: ax (u) = alpha / aspect, ay (v) = alpha * aspect  -> stretched along u
 //   a > 0: ax (u) = alpha * aspect, ay (v) = alpha / aspect  -> stretched along v
-// (The formula line in MATERIAL.md §3 writes alpha_u = alpha / aspect "with u and v swapped for
-// a < 0"; read literally that stretches along v for a < 0, contradicting the sentence in §1 and
-// the one in §3 itself. We follow the sentence; tests/lobes/test_microfacet.cpp checks that
-// a < 0 spreads sampled directions more in x than in y.) The product ax * ay = alpha^2 is kept,
-// so the highlight's solid angle stays roughly constant. Both are clamped to >= 1e-4.
+// (An earlier wording of the specification's formula line wrote alpha_u = alpha / aspect "with
+// u and v swapped for a < 0", which read literally stretches along v for a < 0, against its own
+// sentence. docs/material.md §3.3 states the convention of the sentence, which this follows;
+// tests/lobes/test_microfacet.cpp checks that a < 0 spreads sampled directions more in x than
+// in y.) The product ax * ay = alpha^2 is kept, so the highlight's solid angle stays roughly
+// constant. Both are clamped to >= 1e-4.
 AW_FN void anisotropic_alphas(float alpha, float amount, float* ax, float* ay) {
   float a = clamp(amount, -1.0f, 1.0f);
   float aspect = sqrt(1.0f - 0.9f * fabs(a));

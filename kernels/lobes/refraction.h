@@ -1,7 +1,7 @@
 // Refraction lobe: the TRANSMITTED part of a dielectric boundary, smooth (delta) or rough
 // (Walter et al. 2007, "Microfacet Models for Refraction through Rough Surfaces", EGSR).
 //
-// Energy split. The material splits the energy before the lobes (MATERIAL.md §2): reflection
+// Energy split. The material splits the energy before the lobes (docs/material.md §2): reflection
 // takes F(theta_o) and this lobe gets what is left. So this lobe carries NO Fresnel factor:
 // it is Walter's BTDF without its (1 - F) term. Smooth glass (reflection F, refraction 1 - F)
 // is then lossless. Total internal reflection: where no refracted direction exists the sample
@@ -28,7 +28,7 @@
 // as radiance they are 1/eta^2 and at most 1/eta^2.
 //
 // IOR 1: |eta - 1| < 1e-3 is a straight pass-through (wi = -wo exactly, weight 1) whatever the
-// roughness (MATERIAL.md §1: glossiness has "no effect when IOR = 1").
+// roughness (docs/material.md §1: glossiness has "no effect when IOR = 1"; §3.5).
 #ifndef AW_LOBES_REFRACTION_H
 #define AW_LOBES_REFRACTION_H
 
@@ -41,7 +41,7 @@ typedef struct {
   float eta;      // n(far side) / n(side of wo)
 } RefractionParams;
 
-// |eta - 1| below this is no interface at all (MATERIAL.md §3 "Refraction").
+// |eta - 1| below this is no interface at all (docs/material.md §3.5 "Refraction").
 #define AW_REFRACTION_PASS_THROUGH_EPS 1e-3f
 
 // Density reported for a delta sample: the probability mass of the chosen direction (the

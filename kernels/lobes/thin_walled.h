@@ -1,6 +1,6 @@
-// Thin walls (MATERIAL.md §3 "Thin walled"): a pane with two parallel faces and no thickness.
-// Light is not bent (it leaves the pane parallel to how it entered) and the reflectance counts
-// the inter-reflections between the two faces.
+// Thin walls (docs/material.md §3.6 "Thin walled"): a pane with two parallel faces and no
+// thickness. Light is not bent (it leaves the pane parallel to how it entered) and the
+// reflectance counts the inter-reflections between the two faces.
 //
 // Reflectance and transmittance of the pane. With R the single-interface Fresnel reflectance
 // and T = 1 - R (no absorption inside), the rays bouncing between the faces form geometric

@@ -1,5 +1,5 @@
-// Translucency: diffuse transmission (MATERIAL.md §3), the "double-sided diffuse lighting" of
-// leaves and paper. A Lambertian lobe on the far side of the surface:
+// Translucency: diffuse transmission (docs/material.md §3.2), the "double-sided diffuse
+// lighting" of leaves and paper. A Lambertian lobe on the far side of the surface:
 //   f(wo, wi) = color / pi   where wo and wi lie on opposite sides, 0 elsewhere,
 // sampled with the cosine-weighted hemisphere (Malley's method, common/sampling.h) mirrored
 // to the side opposite wo, pdf = |cos theta_i| / pi, so the sample weight is exactly `color`

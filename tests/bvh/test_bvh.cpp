@@ -705,7 +705,7 @@ TEST_F(BvhVsEmbree, HeightfieldSharedEdgesAndVertices) { check_scene(heightfield
 // operations: with no FMA contraction on either side (CMakeLists.txt: -ffp-contract=off on
 // the host; OpenCL C contracts a*b+c unless FP_CONTRACT is OFF) and correctly rounded
 // division, which CPU devices have, they must agree to the bit, closest and any hit. The
-// kernel-vs-scalar renderer comparison relies on it (DESIGN.md, principle 3). GPU drivers
+// kernel-vs-scalar renderer comparison relies on it (docs/design.md, principle 3). GPU drivers
 // may divide to 2.5 ulp; there only the criteria of the tests above apply.
 TEST_F(BvhVsEmbree, CppAndOpenClBuildsAreBitIdentical) {
   if (cl_->info().type != "CPU") GTEST_SKIP() << "device 0 is not a CPU device: " << cl_->info().name;

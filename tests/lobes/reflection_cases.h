@@ -31,7 +31,7 @@ inline FresnelParams fresnel_conductor_gold() {  // scalar n, k of gold around 6
   return f;
 }
 
-inline FresnelParams fresnel_curve_default() {  // MATERIAL.md §1 defaults
+inline FresnelParams fresnel_curve_default() {  // docs/material.md §1 defaults
   FresnelParams f = fresnel_dielectric_1_5();
   f.mode = AW_FRESNEL_CURVE;
   f.facing = 0.2f;

@@ -429,7 +429,7 @@ TEST(ThinWalled, ReflectanceAndTransmittanceConserveEnergy) {
     EXPECT_GE(Tp, 0.0f);
     EXPECT_LE(Rp, 1.0f);
     if (R < 0.999f) {
-      // The series forms of MATERIAL.md §3 (computed in double), no absorption.
+      // The series forms of docs/material.md §3.6 (computed in double), no absorption.
       double T = 1.0 - double(R);
       double rs = double(R) + T * T * double(R) / (1.0 - double(R) * double(R));
       double ts = T * T / (1.0 - double(R) * double(R));
@@ -521,7 +521,7 @@ TEST(ThinWalled, FrostedIsCentredOnStraightThroughAndReciprocal) {
 // Fog.
 // ------------------------------------------------------------------------------------------
 TEST(Fog, EndColorClosedForm) {
-  // "Fog with end colour C at distance D transmits C^(d/D)" (MATERIAL.md §3).
+  // "Fog with end colour C at distance D transmits C^(d/D)" (docs/material.md §3.7).
   const float3 C = make_float3(0.8f, 0.3f, 0.05f);
   const float D = 2.5f;
   for (float d : {0.0f, 0.1f, 1.0f, 2.5f, 5.0f, 12.5f, 100.0f}) {

@@ -1,4 +1,4 @@
-// The material's documented behaviours (MATERIAL.md), rendered. Each scene is built so that
+// The material's documented behaviours (docs/material.md), rendered. Each scene is built so that
 // the right answer is exact: a constant environment seen through or reflected by one object.
 #include <gtest/gtest.h>
 
@@ -43,7 +43,7 @@ float px(const aw::RenderResult& r, int x, int y, int c) {
 
 const float kEnv[3] = {0.2f, 0.4f, 0.8f};
 
-// MATERIAL.md §1: refraction.glossiness has "no effect when IOR = 1", and refraction weight 1
+// docs/material.md §1: refraction.glossiness has "no effect when IOR = 1", and refraction weight 1
 // with IOR 1 makes an object invisible except for its Fresnel — which is 0 at IOR 1. So a
 // sphere of it in front of a constant environment leaves exactly the environment.
 TEST(Documented, RefractionWithIorOneIsInvisible) {
@@ -59,7 +59,7 @@ TEST(Documented, RefractionWithIorOneIsInvisible) {
 }
 
 // A perfect mirror (weight 1, colour 1, reflectivity 1: the curve with facing = perpendicular
-// = 1) takes all the energy (MATERIAL.md §2, "mirror wins"): the diffuse colour cannot matter.
+// = 1) takes all the energy (docs/material.md §2, "mirror wins"): the diffuse colour cannot matter.
 // Rendered with a white and with a black diffuse colour, the images are bit-identical, and
 // (away from the silhouette, where interpolated normals may send a reflection below the
 // surface) every pixel is the environment it reflects.
@@ -118,7 +118,7 @@ TEST(Documented, FogEndColourTransmitsPowerOfDistance) {
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(px(*res, 16, 16, c) / expect[c], 1.0, 2e-3) << "channel " << c;
 }
 
-// Cutout opacity < 0.5: the surface is not there, for every kind of ray (MATERIAL.md §1). A
+// Cutout opacity < 0.5: the surface is not there, for every kind of ray (docs/material.md §1). A
 // cutout sheet between a light and the floor changes nothing: shadow rays step through it and
 // BSDF-sampled rays that find the light through it are MIS-weighted from their true origin.
 TEST(Documented, CutoutSurfaceIsNotThereForAnyRay) {

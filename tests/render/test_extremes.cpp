@@ -1,4 +1,4 @@
-// DESIGN.md principle 7: glossiness 0 and 1, IOR exactly 1 (and near it), huge extinction,
+// docs/design.md, principle 7: glossiness 0 and 1, IOR exactly 1 (and near it), huge extinction,
 // anisotropy ±1, grazing angles, degenerate triangles, zero-area lights: no NaN or Inf ever
 // reaches the film, and no sample is discarded for being non-finite (the guard in
 // path_result must not be what keeps the image clean). Both renderers.

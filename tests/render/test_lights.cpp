@@ -1,6 +1,6 @@
-// Light units and sampling against closed forms (SCENE_FORMAT.md: "units are part of the
-// contract"). A white Lambertian floor (albedo 1) at y = 0 is seen through a very narrow
-// camera aimed at the origin, so every pixel sees (almost exactly) the point P = 0. Its
+// Light units and sampling against closed forms (docs/scene-format.md, `lights`: "units are
+// part of the contract"). A white Lambertian floor (albedo 1) at y = 0 is seen through a very
+// narrow camera aimed at the origin, so every pixel sees (almost exactly) the point P = 0. Its
 // radiance is E / pi where E is the irradiance at P, and E has a closed form for each light:
 //
 //   point, intensity I at height h:            E = I / h^2

@@ -156,7 +156,7 @@ TEST_F(GoodFullScene, ExplicitMaterialValues) {
   EXPECT_TRUE(glass.bump.input.empty());
 }
 
-// The values below are MATERIAL.md §1's defaults, written out rather than compared with a
+// The values below are docs/material.md §1's defaults, written out rather than compared with a
 // default-constructed MaterialDesc, so a drifting default in the struct is caught too.
 TEST_F(GoodFullScene, ArchitecturalDefaultsOfAnEmptyMaterial) {
   const aw::MaterialDesc& m = scene_->materials[3];  // "plain": {}

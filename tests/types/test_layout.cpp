@@ -47,10 +47,10 @@ static_assert(sizeof(TriangleInfo) == 16, "TriangleInfo is one uint4");
 static_assert(sizeof(VertexData) == 64, "VertexData: p, n, uv + pad, t as four float4");
 static_assert(offsetof(VertexData, t) == 48, "the tangent is the 4th float4 of a vertex");
 
-// Shared structs hold only 4-byte fields (STYLE.md): then alignment is 4 and no compiler can
-// insert padding, so sizeof equals the sum of the declared fields on every side. A member
-// with a larger alignment (a double, a 64-bit integer, a host vector type with forced
-// alignment) breaks this and is caught here at compile time.
+// Shared structs hold only 4-byte fields (docs/design.md, "Rules for shared code"): then
+// alignment is 4 and no compiler can insert padding, so sizeof equals the sum of the declared
+// fields on every side. A member with a larger alignment (a double, a 64-bit integer, a host
+// vector type with forced alignment) breaks this and is caught here at compile time.
 template <typename T>
 constexpr bool plain_4byte_struct() {
   return alignof(T) == 4 && sizeof(T) % 4 == 0;
