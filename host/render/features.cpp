@@ -1,8 +1,12 @@
 #include "host/render/features.h"
 
 #include <cctype>
+#include <cstdio>
 
+#include "host/render/scene_pack.h"
+#include "kernels/integrator/split.h"
 #include "kernels/material/architectural.h"
+#include "kernels/material/lobe_list.h"
 
 namespace aw {
 
@@ -21,10 +25,17 @@ const char* FeatureSet::name(int id) {
   return names[id];
 }
 
+uint32_t FeatureSet::mask() const {
+  uint32_t m = 0;
+  for (int i = 0; i < COUNT; ++i)
+    if (on[i]) m |= 1u << i;
+  return m;
+}
+
 std::string FeatureSet::defines() const {
-  std::string s = "-DAW_SPECIALISED";
-  for (int i = 0; i < COUNT; ++i) s += std::string(" -DAW_FEAT_") + name(i) + "=" + (on[i] ? "1" : "0");
-  return s;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "-DAW_FEATURES=0x%08xu", mask());
+  return buf;
 }
 
 std::string FeatureSet::describe() const {
@@ -38,33 +49,11 @@ std::string FeatureSet::describe() const {
   return s.empty() ? "none" : s;
 }
 
-bool FeatureSet::lobe(uint32_t lid) const {
-  switch (lid) {
-    case AW_LID_TRANSLUCENCY: return on[TRANSLUCENCY];
-    case AW_LID_REFLECTION:
-    case AW_LID_REFLECTION2: return on[REFLECTION];
-    case AW_LID_REFRACTION: return on[REFRACTION];
-    default: return true;  // diffuse is always built
-  }
-}
+bool FeatureSet::lobe(uint32_t lid) const { return (lobe_feature_bit(lid) & ~mask()) == 0u; }
 
-FeatureSet derive_features(const PackedScene& scene) {
+FeatureSet decide_features(const PackedScene& scene, const RenderSettings& settings) {
   FeatureSet f;
-  // The kernels' own definition of what a material uses (AW_FEATBIT_* in list order).
-  static_assert(AW_FEATBIT_TRANSLUCENCY == 1u << FeatureSet::TRANSLUCENCY &&
-                    AW_FEATBIT_REFLECTION == 1u << FeatureSet::REFLECTION &&
-                    AW_FEATBIT_REFRACTION == 1u << FeatureSet::REFRACTION &&
-                    AW_FEATBIT_ROUGH_DIFFUSE == 1u << FeatureSet::ROUGH_DIFFUSE &&
-                    AW_FEATBIT_ANISOTROPY == 1u << FeatureSet::ANISOTROPY && AW_FEATBIT_FOG == 1u << FeatureSet::FOG &&
-                    AW_FEATBIT_CUTOUT == 1u << FeatureSet::CUTOUT &&
-                    AW_FEATBIT_INCANDESCENCE == 1u << FeatureSet::INCANDESCENCE &&
-                    AW_FEATBIT_BRDF_BECKMANN == 1u << FeatureSet::BRDF_BECKMANN &&
-                    AW_FEATBIT_BRDF_AS == 1u << FeatureSet::BRDF_AS &&
-                    AW_FEATBIT_FRESNEL_CONDUCTOR == 1u << FeatureSet::FRESNEL_CONDUCTOR &&
-                    AW_FEATBIT_FRESNEL_CURVE == 1u << FeatureSet::FRESNEL_CURVE &&
-                    AW_FEATBIT_THIN_WALLED == 1u << FeatureSet::THIN_WALLED &&
-                    AW_FEAT_MATERIAL_COUNT == FeatureSet::THIN_WALLED + 1,
-                "feature bits follow AW_FEATURE_LIST, material features first");
+  // Material features: the kernels' own definition of what a material uses.
   uint32_t used = 0;
   for (const MaterialGpu& m : scene.materials) used |= material_features(&m);
   for (int i = 0; i < AW_FEAT_MATERIAL_COUNT; ++i) f.on[i] = (used >> i) & 1u;
@@ -74,8 +63,15 @@ FeatureSet derive_features(const PackedScene& scene) {
     if (l.type == AW_LIGHT_DISK) f.on[FeatureSet::LIGHT_DISK] = true;
     if (l.type == AW_LIGHT_SPHERE) f.on[FeatureSet::LIGHT_SPHERE] = true;
   }
-  // pack_scene decides whether any lobe splits (render.lobe_splitting and samples vs spp).
-  f.on[FeatureSet::SPLIT] = scene.params.split_spp != 0u;
+  // Per-lobe samples split the first hit's rays (docs/material.md §6) only when some lobe that
+  // a material can choose at all gets n = round(samples / spp) >= 2; otherwise splitting
+  // changes nothing and the kernels are built without it (kernels/integrator/split.h).
+  if (settings.lobe_splitting) {
+    const uint32_t spp = uint32_t(settings.spp);
+    for (const MaterialGpu& m : scene.materials)
+      for (uint32_t lid = 0; lid < AW_LID_COUNT; ++lid)
+        if (lobe_present(&m, lid) && lobe_split_count(&m, lid, spp) > 1u) f.on[FeatureSet::SPLIT] = true;
+  }
   return f;
 }
 

@@ -6,7 +6,6 @@
 
 #include "host/scene/tangents.h"
 #include "kernels/common/sampling.h"
-#include "kernels/integrator/split.h"
 #include "kernels/material/architectural.h"
 
 namespace aw {
@@ -19,22 +18,20 @@ void put3(float* dst, glm::vec3 v) {
   dst[2] = v.z;
 }
 
-float lum(glm::vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 LightGpu pack_light(const LightDesc& d, float* power) {
   LightGpu l;
   std::memset(&l, 0, sizeof(l));
   glm::vec3 radiance = d.color * d.intensity;
   put3(l.radiance, radiance);
   l.flags = (d.two_sided ? AW_LIGHT_TWO_SIDED : 0u) | (d.visible ? AW_LIGHT_VISIBLE : 0u);
-  const float pi = 3.14159265358979323846f;
+  const float pi = M_PI_F;
   // Emitted power (luminance), the light-selection weight: a point light emits 4 pi I, a
   // Lambertian area emitter pi L A per emitting side.
   switch (d.type) {
     case LightDesc::Type::Point:
       l.type = AW_LIGHT_POINT;
       put3(l.p, d.position);
-      *power = 4.0f * pi * lum(radiance);
+      *power = 4.0f * pi * luminance(radiance);
       break;
     case LightDesc::Type::Quad: {
       l.type = AW_LIGHT_QUAD;
@@ -44,7 +41,7 @@ LightGpu pack_light(const LightDesc& d, float* power) {
       glm::vec3 c = glm::cross(d.edge_u, d.edge_v);
       l.area = glm::length(c);
       put3(l.n, l.area > 0.0f ? c / l.area : glm::vec3(0, 0, 1));
-      *power = pi * lum(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
+      *power = pi * luminance(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
       break;
     }
     case LightDesc::Type::Disk: {
@@ -58,7 +55,7 @@ LightGpu pack_light(const LightDesc& d, float* power) {
       put3(l.v, b);
       l.radius = d.radius;
       l.area = pi * d.radius * d.radius;
-      *power = pi * lum(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
+      *power = pi * luminance(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
       break;
     }
     case LightDesc::Type::Sphere:
@@ -66,7 +63,7 @@ LightGpu pack_light(const LightDesc& d, float* power) {
       put3(l.p, d.center);
       l.radius = d.radius;
       l.area = 4.0f * pi * d.radius * d.radius;
-      *power = pi * lum(radiance) * l.area;
+      *power = pi * luminance(radiance) * l.area;
       break;
   }
   // A zero-area light emits nothing and must never be sampled (its pdf would be infinite).
@@ -76,12 +73,12 @@ LightGpu pack_light(const LightDesc& d, float* power) {
 
 uint32_t pack_brdf(Brdf b) {
   switch (b) {
-    case Brdf::Beckmann: return 0u;
-    case Brdf::Ggx: return 1u;
-    case Brdf::AshikhminShirley: return 2u;
-    case Brdf::AshikhminShirleyLegacy: return 3u;
+    case Brdf::Beckmann: return AW_BRDF_BECKMANN;
+    case Brdf::Ggx: return AW_BRDF_GGX;
+    case Brdf::AshikhminShirley: return AW_BRDF_ASHIKHMIN_SHIRLEY;
+    case Brdf::AshikhminShirleyLegacy: return AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY;
   }
-  return 1u;
+  return AW_BRDF_GGX;
 }
 
 ReflectionGpu pack_reflection(const ReflectionDesc& r, float refraction_ior) {
@@ -92,8 +89,8 @@ ReflectionGpu pack_reflection(const ReflectionDesc& r, float refraction_ior) {
   g.glossiness = r.glossiness;
   g.brdf = pack_brdf(r.brdf);
   // Fresnel mode: physical (dielectric or conductor) from an IOR, or the artist curve.
-  if (!r.fresnel.use_ior) g.fresnel_mode = 2u;
-  else g.fresnel_mode = r.fresnel.medium == FresnelMedium::Conductor ? 1u : 0u;
+  if (!r.fresnel.use_ior) g.fresnel_mode = AW_FRESNEL_CURVE;
+  else g.fresnel_mode = r.fresnel.medium == FresnelMedium::Conductor ? AW_FRESNEL_CONDUCTOR : AW_FRESNEL_DIELECTRIC;
   g.fresnel_ior = r.fresnel.lock_to_refraction_ior ? refraction_ior : r.fresnel.ior;
   g.fresnel_k = r.fresnel.k;
   g.facing = r.fresnel.facing;
@@ -107,7 +104,8 @@ MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, const
                           std::vector<std::string>* warnings) {
   MaterialGpu g;
   std::memset(&g, 0, sizeof(g));
-  put3(g.diffuse_color, d.diffuse.color * d.diffuse.weight);
+  put3(g.diffuse_color, d.diffuse.color);
+  g.diffuse_weight = d.diffuse.weight;
   g.diffuse_roughness = d.diffuse.roughness;
   if (d.translucency.enable) {
     put3(g.transl_color, d.translucency.color);
@@ -233,7 +231,7 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   put3(rp.cam_forward, fwd);
   put3(rp.cam_right, right);
   put3(rp.cam_up, up);
-  rp.tan_half_fov = std::tan(0.5f * cam.fov * 3.14159265358979323846f / 180.0f);
+  rp.tan_half_fov = std::tan(0.5f * cam.fov * M_PI_F / 180.0f);
   const RenderSettings& rs = scene.render;
   rp.aspect = float(rs.width) / float(rs.height);
   rp.width = uint32_t(rs.width);
@@ -249,21 +247,9 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   // occlude (a zero-radiance light is a black object). If all have zero power the pick lands
   // on a light with select_pdf 0, whose sample then contributes nothing.
   rp.num_lights = uint32_t(ps.lights.size());
-  // Per-lobe samples split the first hit's rays (MATERIAL.md §6) only when some lobe that is
-  // there at all gets n = round(samples / spp) >= 2; otherwise splitting changes nothing and
-  // the kernels are built without it (kernels/integrator/split.h).
-  if (rs.lobe_splitting) {
-    const uint32_t spp = uint32_t(rs.spp);
-    for (const MaterialGpu& m : ps.materials) {
-      uint32_t used = material_features(&m);
-      bool split = false;
-      for (int i = 0; i < 2; ++i)
-        split |= m.refl[i].weight > 0.0f && positive3(m.refl[i].color) &&
-                 lobe_split_count(&m, i == 0 ? AW_LID_REFLECTION : AW_LID_REFLECTION2, spp) > 1u;
-      split |= (used & AW_FEATBIT_REFRACTION) && lobe_split_count(&m, AW_LID_REFRACTION, spp) > 1u;
-      if (split) rp.split_spp = spp;
-    }
-  }
+  // The scene's features, decided once (host/render/features.cpp), and what follows from them.
+  ps.features = decide_features(ps, rs);
+  rp.split_spp = ps.features.on[FeatureSet::SPLIT] ? uint32_t(rs.spp) : 0u;
   return ps;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "host/bvh/flat_bvh.h"
+#include "host/render/features.h"
 #include "host/scene/scene.h"
 #include "kernels/common/compat.h"
 #include "kernels/common/features.h"
@@ -20,10 +21,12 @@ struct PackedScene {
   std::vector<MaterialGpu> materials;
   std::vector<LightGpu> lights;
   RenderParams params{};  // camera, environment, settings; pool and batch fields left 0
+  FeatureSet features;    // what the scene uses (decide_features), decided once here
 };
 
 // Throws SceneError for a scene that cannot be rendered (a degenerate camera). Appends
-// notes about parameters the current kernels do not render yet to *warnings.
+// notes about parameters the current kernels do not render yet to *warnings. Decides the
+// scene's features (decide_features) and the parameters that follow from them (split_spp).
 PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings);
 
 // Bytes of the arrays both renderers read besides a BVH (triangle info, vertices, materials,

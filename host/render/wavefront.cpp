@@ -6,6 +6,10 @@
 // value to samples[job]; at the end of the batch film_accumulate adds the batch to the film
 // pixel by pixel in sample order. So the film's summation order is fixed by the job order
 // alone: the image does not depend on the pool size, the batch size, or which slot ran what.
+//
+// Every stage kernel takes the one argument list of kernels/integrator/stage_args.h; the
+// driver binds the buffers by the generated AW_ARG_* indices (StageBuffers below) and sets
+// the per-launch values the same way, so there is no argument position to keep in step.
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -22,17 +26,20 @@
 #include "kernels/integrator/path_state.h"
 #include "kernels/integrator/queues.h"
 #include "kernels/integrator/split.h"
+#include "kernels/integrator/stage_args.h"
+#include "kernels/material/lobe_list.h"
 
 namespace aw {
 
 namespace {
 
-// Explicit local size everywhere (DESIGN.md: PoCL facts). 256 rather than 64: PoCL runs a
-// work-group as one task, and its per-task overhead (~5 us) dominated the cheap stages at 64
-// (accumulate: 0.24 s -> 0.07 s for 2.6M paths on the Cornell box); the heavy stages do not
-// care.
+// Explicit local size everywhere (docs/design.md, fact F3; principle 2). 256 rather than 64:
+// PoCL runs a work-group as one task, and its per-task overhead (~5 us) dominated the cheap
+// stages at 64 (accumulate: 0.24 s -> 0.07 s for 2.6M paths on the Cornell box); the heavy
+// stages do not care.
 constexpr uint32_t kWorkGroup = 256;
-constexpr double kDenseFraction = 0.25;  // see dense_fraction below
+constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
+static_assert(kWorkGroup >= AW_Q_COUNT, "wg_append keeps one local counter per queue in the work-group");
 
 size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWorkGroup; }
 
@@ -52,11 +59,342 @@ cl::Buffer upload(ClRuntime& rt, const char* what, const std::vector<T>& v, cl_m
   return rt.buffer(what, v.size() * sizeof(T), flags, v.empty() ? nullptr : v.data());
 }
 
+// The buffers of the stage argument list, one member per BUFFER entry of stage_args.h.
+struct StageBuffers {
+#define AW_HOST_STAGE_VALUE(type, name)
+#define AW_HOST_STAGE_BUFFER(type, name) cl::Buffer name;
+  AW_STAGE_ARGS(AW_HOST_STAGE_VALUE, AW_HOST_STAGE_BUFFER)
+#undef AW_HOST_STAGE_BUFFER
+};
+
+// Binds every buffer of the argument list to a stage kernel, and zeroes the values.
+void bind_stage_args(cl::Kernel& k, const StageBuffers& b) {
+#define AW_BIND_STAGE_VALUE(type, name) k.setArg(AW_ARG_##name, type(0));
+#define AW_BIND_STAGE_BUFFER(type, name) k.setArg(AW_ARG_##name, b.name);
+  AW_STAGE_ARGS(AW_BIND_STAGE_VALUE, AW_BIND_STAGE_BUFFER)
+#undef AW_BIND_STAGE_VALUE
+#undef AW_BIND_STAGE_BUFFER
+}
+
+// The kernel names of the lobe stages, from the lobe list (kernels.cl: kernel_shade_<name>).
+const char* const kLobeStageNames[AW_LID_COUNT] = {
+#define AW_LOBE_STAGE_NAME(ID, name, FEATURE, TRAITS) "shade_" #name,
+    AW_LOBE_LIST(AW_LOBE_STAGE_NAME)
+#undef AW_LOBE_STAGE_NAME
+};
+
+// One stage: its kernel (kernel_<name> in kernels.cl), the queue it consumes, whether it
+// may run as a dense launch and whether it appends (the host then pushes and pulls the
+// queue counters around it), and what it did.
 struct Stage {
-  const char* name;
-  cl::Kernel kernel;
+  std::string name;
+  int queue = -1;        // AW_Q_* it consumes; -1: none (film_accumulate)
+  bool dense_ok = false; // consumes its whole queue, so a launch over the pool in slot order works
+  bool appends = false;
+  cl::Kernel kernel;     // null for a lobe this build lacks
   double seconds = 0.0;
-  uint64_t items = 0;  // paths (pixels for film_accumulate) processed: throughput per stage
+  uint64_t items = 0;    // paths (pixels for film_accumulate) processed: throughput per stage
+};
+
+class Wavefront {
+ public:
+  Wavefront(const Scene& scene, const RenderOptions& opts, RenderResult& res)
+      : scene_(scene), opts_(opts), res_(res), st_(res.stats), packed_(pack_scene(scene, &st_.warnings)),
+        rt_(opts.device) {}
+
+  void render() {
+    build_bvh();
+    build_program();
+    try {
+      allocate();
+      bind();
+      warm_up();
+      ProgressLine progress("rendering", total_jobs_, opts_.progress);
+      uint64_t jobs_done = 0;
+      while (jobs_done < total_jobs_) {
+        if (cancelled()) break;
+        uint32_t batch = uint32_t(std::min<uint64_t>(max_batch_, total_jobs_ - jobs_done));
+        uint32_t issued = run_batch(jobs_done, batch, progress);
+        jobs_done += issued;
+        st_.samples += issued;
+        progress.update(jobs_done);
+        if (issued < batch) break;  // interrupted
+      }
+      progress.finish();
+      st_.interrupted = jobs_done < total_jobs_;
+      read_back();
+    } catch (const cl::Error& e) {
+      throw ClError(std::string("OpenCL error while rendering on ") + rt_.info().name + ": " + e.what() + " (" +
+                    cl_error_name(e.err()) + ")");
+    }
+  }
+
+ private:
+  bool cancelled() const { return opts_.cancel && opts_.cancel->load(); }
+
+  void build_bvh() {
+    auto t0 = Clock::now();
+    EmbreeDevice embree;
+    bvh_ = build_flat_bvh(embree, packed_.soup);
+    st_.bvh_seconds = since(t0);
+  }
+
+  // Model only what the scene requires: specialise the program on the scene's features.
+  void build_program() {
+    st_.device = rt_.info().name + " (" + rt_.info().platform + ")";
+    std::string src = assemble_kernel_source("integrator/kernels.cl", opts_.kernel_dir);
+    const FeatureSet& need = packed_.features;
+    features_ = opts_.generic_kernels ? FeatureSet::all() : need;
+    for (const std::string& off : opts_.force_off)
+      for (int i = 0; i < FeatureSet::COUNT; ++i)
+        if (off == FeatureSet::name(i)) features_.on[i] = false;
+    st_.kernel_features = opts_.generic_kernels ? "generic (every feature)" : "specialised: " + features_.describe();
+    // Material features are checked at every hit (classify_hit), lobe splitting where it
+    // starts (shade_surface); light types have no such check in the kernels (a compiled-out
+    // type would be sampled as another one), so the host refuses the build here.
+    std::string lack;
+    for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE})
+      if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
+    if (!lack.empty())
+      throw std::logic_error("the scene has lights of a type the specialised kernels lack (" + lack + "; built: " +
+                             st_.kernel_features + "); the image would be wrong, so none is rendered");
+    std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
+                          (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
+    program_ = rt_.build(src, options, &st_.compile_seconds);
+  }
+
+  void allocate() {
+    rp_ = packed_.params;
+    npix_ = rp_.width * rp_.height;
+    total_jobs_ = uint64_t(npix_) * uint64_t(scene_.render.spp);
+    uint32_t pool = opts_.pool_size ? opts_.pool_size : default_pool_size();
+    pool = uint32_t(std::min<uint64_t>(pool, pad_to_group(total_jobs_)));
+    pool_ = uint32_t(pad_to_group(pool));
+    rp_.pool_size = pool_;
+    rp_.num_nodes = uint32_t(bvh_.nodes.size());
+    max_batch_ = opts_.max_batch ? opts_.max_batch : 4u * pool_;
+    max_batch_ = uint32_t(std::min<uint64_t>(max_batch_, total_jobs_));
+
+    StageBuffers& b = buf_;
+    b.sf = rt_.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool_ * 4);
+    b.su = rt_.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool_ * 4);
+    st_.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool_ * 4;
+    // Lobe splitting's first-hit snapshots (integrator/split.h): only when the scene splits.
+    const bool splits = rp_.split_spp != 0u;
+    b.snap_f = rt_.buffer("lobe-split snapshots (float fields)", splits ? size_t(AW_SNAP_F_COUNT) * pool_ * 4 : 4);
+    b.snap_u = rt_.buffer("lobe-split snapshots (uint fields)", splits ? size_t(AW_SNAP_U_COUNT) * pool_ * 4 : 4);
+    if (splits) st_.state_bytes += size_t(AW_SNAP_F_COUNT + AW_SNAP_U_COUNT) * pool_ * 4;
+    st_.pool_size = pool_;
+    // All queues in one buffer: queue i at [i * pool, (i + 1) * pool).
+    b.queues = rt_.buffer("queues", size_t(AW_Q_COUNT) * pool_ * 4);
+    b.counters = rt_.buffer("queue counters", AW_Q_COUNT * 4);
+    // The queue each slot is in (kernels.cl: wg_append, stage_slot); all free at the start
+    // of every batch.
+    b.tags = rt_.buffer("queue tags", size_t(pool_) * 4);
+    b.stats = upload(rt_, "stats counters", std::vector<uint32_t>(AW_STAT_COUNT, 0), CL_MEM_READ_WRITE);
+    b.samples = rt_.buffer("batch samples", size_t(max_batch_) * 3 * 4);
+    b.film = upload(rt_, "film", std::vector<float>(size_t(npix_) * 3, 0.0f), CL_MEM_READ_WRITE);
+    b.film_count = upload(rt_, "film sample counts", std::vector<uint32_t>(npix_, 0), CL_MEM_READ_WRITE);
+    b.nodes = rt_.buffer("BVH nodes", bvh_.nodes.size() * sizeof(BvhNode), CL_MEM_READ_ONLY,
+                         bvh_.nodes.empty() ? nullptr : bvh_.nodes.data());
+    b.tris = rt_.buffer("BVH leaf triangles", bvh_.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,
+                        bvh_.leaf_tris.empty() ? nullptr : bvh_.leaf_tris.data());
+    b.tri_info = upload(rt_, "triangle info", packed_.tri_info);
+    b.verts = upload(rt_, "vertices", packed_.verts);
+    b.materials = upload(rt_, "materials", packed_.materials);
+    b.lights = upload(rt_, "lights", packed_.lights);
+    st_.triangles = packed_.soup.indices.size();
+    st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
+                      packed_arrays_bytes(packed_);
+    st_.film_bytes = size_t(npix_) * (3 + 1) * 4 + size_t(max_batch_) * 3 * 4;  // film, counts, batch samples
+    st_.device_bytes = rt_.allocated_bytes();
+    identity_.resize(pool_);
+    std::iota(identity_.begin(), identity_.end(), 0u);
+  }
+
+  // The stages in pipeline order (the order of the stats), their kernels, their buffers.
+  void bind() {
+    auto add = [&](const std::string& name, int queue, bool dense_ok, bool appends, bool built) {
+      Stage s;
+      s.name = name;
+      s.queue = queue;
+      s.dense_ok = dense_ok;
+      s.appends = appends;
+      if (built) {
+        s.kernel = cl::Kernel(program_, ("kernel_" + name).c_str());
+        bind_stage_args(s.kernel, buf_);
+      }
+      stages_.push_back(std::move(s));
+      return stages_.size() - 1;
+    };
+    regen_ = add("regenerate", AW_Q_FREE, false, true, true);
+    isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
+    classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
+    pass_ = add("pass_through", AW_Q_PASS, false, true, true);
+    for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
+      shade_[l] = add(kLobeStageNames[l], AW_Q_LOBE + int(l), true, true, features_.lobe(l));
+    shadow_ = add("intersect_shadow", AW_Q_SHADOW, true, false, true);
+    // regenerate takes part of the free queue, accumulate and pass_through see small queues:
+    // they run over their queue entries only.
+    accum_ = add("accumulate", AW_Q_DONE, false, true, true);
+    film_ = add("film_accumulate", -1, false, false, true);
+  }
+
+  // PoCL compiles the work-group function of a kernel at its first launch with a given
+  // local size, not at clBuildProgram: launch every stage once on zero items now, so that
+  // cost is reported as compile time and not as the first iteration's stage time. PoCL also
+  // builds a second work-group function for large grids (above ~2^16 work-items) at the
+  // first such launch: a second, large launch on zero items compiles that one too (every
+  // work-item masks itself out by the count, so nothing is written).
+  void warm_up() {
+    auto t0 = Clock::now();
+    rp_.job_count = 0;
+    for (Stage& s : stages_) {
+      if (!s.kernel()) continue;
+      set_launch_args(s, 0, false, 0);
+      for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
+        rt_.queue().enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+    }
+    rt_.queue().finish();
+    st_.compile_seconds += since(t0);
+  }
+
+  void set_launch_args(Stage& s, uint32_t count, bool dense, uint32_t job_start) {
+    s.kernel.setArg(AW_ARG_rp, sizeof(RenderParams), &rp_);
+    s.kernel.setArg(AW_ARG_count, count);
+    s.kernel.setArg(AW_ARG_dense, uint32_t(dense));
+    s.kernel.setArg(AW_ARG_job_start, job_start);
+  }
+
+  // Runs one stage over `n` items and waits, so its time is its own. Stages that append to
+  // queues get the host's counters first and return the new ones. A queue holding at least
+  // `dense_fraction` of the pool is consumed by a dense launch: one work-item per slot, in
+  // slot order (kernels.cl, stage_slot). The scattered slot order that appends leave behind
+  // costs more than the idle work-items of a dense launch once a queue holds about a quarter
+  // of the pool (docs/architecture.md, "Dense launches").
+  void launch(Stage& s, size_t n, uint32_t job_start = 0) {
+    if (n == 0 && s.queue >= 0) return;
+    if (!s.kernel())
+      throw std::logic_error("wavefront: paths queued for '" + s.name + "', which this kernel build does not have");
+    auto t0 = Clock::now();
+    if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
+    const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction : kDenseFraction;
+    bool dense = s.dense_ok && double(n) >= dense_fraction * double(pool_);
+    set_launch_args(s, uint32_t(n), dense, job_start);
+    size_t global = dense ? size_t(pool_) : pad_to_group(n);  // pool is a multiple of the group
+    rt_.queue().enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+    if (s.appends) rt_.queue().enqueueReadBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
+    else rt_.queue().finish();
+    s.seconds += since(t0);
+    s.items += n;
+  }
+
+  // Paths in the queues the iteration loop consumes (accumulate sends split paths back to
+  // the lobe queues, so those can be non-empty at the top of an iteration).
+  uint32_t in_flight() const {
+    uint32_t n = cnt_[AW_Q_RAY];
+    for (uint32_t l = 0; l < AW_LID_COUNT; ++l) n += cnt_[AW_Q_LOBE + l];
+    return n;
+  }
+
+  // One batch of jobs [jobs_done, jobs_done + batch): every issued job's sample lands in the
+  // film. Returns the number of jobs issued (fewer than `batch` when interrupted).
+  uint32_t run_batch(uint64_t jobs_done, uint32_t batch, ProgressLine& progress) {
+    auto& q = rt_.queue();
+    rp_.batch_pixel = uint32_t(jobs_done % npix_);
+    rp_.batch_sample = uint32_t(jobs_done / npix_);
+    rp_.job_count = batch;
+    q.enqueueWriteBuffer(buf_.queues, CL_TRUE, size_t(AW_Q_FREE) * pool_ * 4, size_t(pool_) * 4, identity_.data());
+    q.enqueueFillBuffer(buf_.tags, uint32_t(AW_Q_FREE), 0, size_t(pool_) * 4);
+    std::fill(cnt_, cnt_ + AW_Q_COUNT, 0u);
+    cnt_[AW_Q_FREE] = pool_;
+    uint32_t next_job = 0, issue_limit = batch;
+    for (;;) {
+      // An interrupt stops new paths; the ones in flight finish (bounded by max_depth), so
+      // every job issued so far lands in the film.
+      if (cancelled()) issue_limit = next_job;
+      uint32_t take = std::min(cnt_[AW_Q_FREE], issue_limit - next_job);
+      if (take) {
+        launch(stages_[regen_], take, next_job);
+        next_job += take;
+      }
+      cnt_[AW_Q_FREE] = 0;  // leftover free slots only remain when no jobs are left
+      if (in_flight() == 0) {
+        if (next_job >= issue_limit) break;
+        // No path in flight and jobs left means slots were lost: a broken scheduling rule.
+        throw std::logic_error("wavefront: no path in flight but jobs remain (a stage lost a path)");
+      }
+      run_iteration();
+      progress.update(jobs_done + next_job - std::min(next_job, in_flight()));
+    }
+    rp_.job_count = next_job;
+    launch(stages_[film_], npix_);
+    return next_job;
+  }
+
+  // Every stage once, in queue order: each consumes the whole queue it reads.
+  void run_iteration() {
+    ++st_.iterations;
+    uint32_t n_ray = cnt_[AW_Q_RAY];
+    st_.closest_rays += n_ray;
+    launch(stages_[isect_], n_ray);
+    launch(stages_[classify_], n_ray);
+    cnt_[AW_Q_RAY] = 0;  // consumed; shading and pass-through refill it
+    launch(stages_[pass_], cnt_[AW_Q_PASS]);
+    cnt_[AW_Q_PASS] = 0;
+    for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
+      launch(stages_[shade_[l]], cnt_[AW_Q_LOBE + l]);
+      cnt_[AW_Q_LOBE + l] = 0;
+    }
+    uint32_t n_shadow = cnt_[AW_Q_SHADOW];
+    st_.shadow_rays += n_shadow;
+    launch(stages_[shadow_], n_shadow);
+    cnt_[AW_Q_SHADOW] = 0;
+    launch(stages_[accum_], cnt_[AW_Q_DONE]);
+    cnt_[AW_Q_DONE] = 0;
+  }
+
+  void read_back() {
+    auto& q = rt_.queue();
+    res_.width = int(rp_.width);
+    res_.height = int(rp_.height);
+    res_.sum.resize(size_t(npix_) * 3);
+    res_.count.resize(npix_);
+    q.enqueueReadBuffer(buf_.film, CL_TRUE, 0, res_.sum.size() * 4, res_.sum.data());
+    q.enqueueReadBuffer(buf_.film_count, CL_TRUE, 0, res_.count.size() * 4, res_.count.data());
+    std::vector<uint32_t> stat_vals(AW_STAT_COUNT);
+    q.enqueueReadBuffer(buf_.stats, CL_TRUE, 0, stat_vals.size() * 4, stat_vals.data());
+    st_.bad_samples = stat_vals[AW_STAT_BAD_SAMPLES];
+    if (stat_vals[AW_STAT_MISSING_FEATURE] > 0)
+      throw std::logic_error(std::to_string(stat_vals[AW_STAT_MISSING_FEATURE]) +
+                             " paths met a material feature that the specialised kernels lack (" +
+                             st_.kernel_features + "); the image would be wrong, so none is written. "
+                             "--generic-kernels renders it; please report this scene");
+    for (const Stage& s : stages_)
+      if (s.seconds > 0.0) {
+        st_.stage_seconds.emplace_back(s.name, s.seconds);
+        st_.stage_items.push_back(s.items);
+      }
+  }
+
+  const Scene& scene_;
+  const RenderOptions& opts_;
+  RenderResult& res_;
+  RenderStats& st_;
+  PackedScene packed_;
+  ClRuntime rt_;
+  FlatBvh bvh_;
+  FeatureSet features_;
+  cl::Program program_;
+  RenderParams rp_{};
+  uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0;
+  uint64_t total_jobs_ = 0;
+  StageBuffers buf_;
+  std::vector<uint32_t> identity_;
+  std::vector<Stage> stages_;
+  size_t regen_ = 0, isect_ = 0, classify_ = 0, pass_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
+  size_t shade_[AW_LID_COUNT] = {};
+  uint32_t cnt_[AW_Q_COUNT] = {};  // the host's copy of the queue counters
 };
 
 }  // namespace
@@ -64,292 +402,9 @@ struct Stage {
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   auto t_start = Clock::now();
   RenderResult res;
-  RenderStats& st = res.stats;
-  st.renderer = "wavefront";
-  PackedScene packed = pack_scene(scene, &st.warnings);
-
-  auto t_bvh = Clock::now();
-  EmbreeDevice embree;
-  FlatBvh bvh = build_flat_bvh(embree, packed.soup);
-  st.bvh_seconds = since(t_bvh);
-
-  ClRuntime rt(opts.device);
-  st.device = rt.info().name + " (" + rt.info().platform + ")";
-  std::string src = assemble_kernel_source("integrator/kernels.cl", opts.kernel_dir);
-  // Model only what the scene requires: specialise the program on the scene's features.
-  const FeatureSet need = derive_features(packed);
-  FeatureSet features = opts.generic_kernels ? FeatureSet::all() : need;
-  for (const std::string& off : opts.force_off)
-    for (int i = 0; i < FeatureSet::COUNT; ++i)
-      if (off == FeatureSet::name(i)) features.on[i] = false;
-  st.kernel_features = opts.generic_kernels ? "generic (every feature)" : "specialised: " + features.describe();
-  // Material features are checked at every hit (classify_hit), lobe splitting where it
-  // starts (shade_surface); light types have no such check in the kernels (a compiled-out
-  // type would be sampled as another one), so the host refuses the build here.
-  std::string lack;
-  for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE})
-    if (need.on[i] && !features.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
-  if (!lack.empty())
-    throw std::logic_error("the scene has lights of a type the specialised kernels lack (" + lack + "; built: " +
-                           st.kernel_features + "); the image would be wrong, so none is rendered");
-  std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
-                        (opts.generic_kernels ? std::string() : features.defines()) + " " + opts.build_options;
-  cl::Program program = rt.build(src, options, &st.compile_seconds);
-
-  try {
-    RenderParams rp = packed.params;
-    const uint32_t npix = rp.width * rp.height;
-    const uint64_t total_jobs = uint64_t(npix) * uint64_t(scene.render.spp);
-    uint32_t pool = opts.pool_size ? opts.pool_size : default_pool_size();
-    pool = uint32_t(std::min<uint64_t>(pool, pad_to_group(total_jobs)));
-    pool = uint32_t(pad_to_group(pool));
-    rp.pool_size = pool;
-    rp.num_nodes = uint32_t(bvh.nodes.size());
-    uint32_t max_batch = opts.max_batch ? opts.max_batch : 4u * pool;
-    max_batch = uint32_t(std::min<uint64_t>(max_batch, total_jobs));
-
-    auto& q = rt.queue();
-    cl::Buffer sf = rt.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool * 4);
-    cl::Buffer su = rt.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool * 4);
-    st.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool * 4;
-    // Lobe splitting's first-hit snapshots (integrator/split.h): only when the scene splits.
-    const bool splits = rp.split_spp != 0u;
-    cl::Buffer snap_f = rt.buffer("lobe-split snapshots (float fields)", splits ? size_t(AW_SNAP_F_COUNT) * pool * 4 : 4);
-    cl::Buffer snap_u = rt.buffer("lobe-split snapshots (uint fields)", splits ? size_t(AW_SNAP_U_COUNT) * pool * 4 : 4);
-    if (splits) st.state_bytes += size_t(AW_SNAP_F_COUNT + AW_SNAP_U_COUNT) * pool * 4;
-    st.pool_size = pool;
-    // All queues in one buffer: queue i at [i * pool, (i + 1) * pool).
-    cl::Buffer queues = rt.buffer("queues", size_t(AW_Q_COUNT) * pool * 4);
-    cl::Buffer counters = rt.buffer("queue counters", AW_Q_COUNT * 4);
-    // The queue each slot is in (kernels.cl: wg_append, AW_DENSE_ITEM); all free at the start
-    // of every batch.
-    cl::Buffer tags = rt.buffer("queue tags", size_t(pool) * 4);
-    std::vector<uint32_t> zero_stats(AW_STAT_COUNT, 0);
-    cl::Buffer stats = upload(rt, "stats counters", zero_stats, CL_MEM_READ_WRITE);
-    cl::Buffer samples = rt.buffer("batch samples", size_t(max_batch) * 3 * 4);
-    std::vector<float> film_init(size_t(npix) * 3, 0.0f);
-    std::vector<uint32_t> count_init(npix, 0);
-    cl::Buffer film = upload(rt, "film", film_init, CL_MEM_READ_WRITE);
-    cl::Buffer film_count = upload(rt, "film sample counts", count_init, CL_MEM_READ_WRITE);
-    cl::Buffer nodes = rt.buffer("BVH nodes", bvh.nodes.size() * sizeof(BvhNode), CL_MEM_READ_ONLY,
-                                 bvh.nodes.empty() ? nullptr : bvh.nodes.data());
-    cl::Buffer tris = rt.buffer("BVH leaf triangles", bvh.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,
-                                bvh.leaf_tris.empty() ? nullptr : bvh.leaf_tris.data());
-    cl::Buffer tri_info = upload(rt, "triangle info", packed.tri_info);
-    cl::Buffer verts = upload(rt, "vertices", packed.verts);
-    cl::Buffer materials = upload(rt, "materials", packed.materials);
-    cl::Buffer lights = upload(rt, "lights", packed.lights);
-    st.triangles = packed.soup.indices.size();
-    st.scene_bytes = bvh.nodes.size() * sizeof(BvhNode) + bvh.leaf_tris.size() * sizeof(LeafTriangle) +
-                     packed_arrays_bytes(packed);
-    st.film_bytes = size_t(npix) * (3 + 1) * 4 + size_t(max_batch) * 3 * 4;  // film, counts, batch samples
-    st.device_bytes = rt.allocated_bytes();
-    std::vector<uint32_t> identity(pool);
-    std::iota(identity.begin(), identity.end(), 0u);
-
-    // Kernels and their fixed arguments (argument 0, the RenderParams, and the item count are
-    // set per launch). `count_arg` is the index of the count argument.
-    auto make = [&](const char* name, const char* kernel) { return Stage{name, cl::Kernel(program, kernel)}; };
-    Stage regen = make("regenerate", "regenerate");
-    regen.kernel.setArg(1, sf); regen.kernel.setArg(2, su); regen.kernel.setArg(3, queues);
-    regen.kernel.setArg(4, counters); regen.kernel.setArg(7, tags);
-    Stage isect = make("intersect_closest", "intersect_closest");
-    isect.kernel.setArg(1, sf); isect.kernel.setArg(2, su); isect.kernel.setArg(3, queues);
-    isect.kernel.setArg(5, nodes); isect.kernel.setArg(6, tris); isect.kernel.setArg(7, lights);
-    isect.kernel.setArg(9, tags);
-    auto shading_args = [&](Stage& s) {
-      s.kernel.setArg(1, sf); s.kernel.setArg(2, su); s.kernel.setArg(3, queues); s.kernel.setArg(4, counters);
-      s.kernel.setArg(6, tri_info); s.kernel.setArg(7, verts); s.kernel.setArg(8, materials);
-      s.kernel.setArg(9, lights);
-    };
-    Stage classify = make("classify_hit", "classify_hit_stage");
-    shading_args(classify);
-    classify.kernel.setArg(11, tags);
-    Stage pass = make("pass_through", "pass_through");
-    pass.kernel.setArg(1, queues); pass.kernel.setArg(2, counters); pass.kernel.setArg(4, tags);
-    const char* lobe_kernels[AW_LID_COUNT] = {"shade_diffuse", "shade_translucency", "shade_reflection",
-                                              "shade_reflection2", "shade_refraction"};
-    std::vector<Stage> shade;  // one per lobe; lobes absent from the build have no kernel
-    std::vector<bool> has_lobe(AW_LID_COUNT);
-    for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
-      has_lobe[l] = features.lobe(l);
-      shade.push_back(has_lobe[l] ? make(lobe_kernels[l], lobe_kernels[l]) : Stage{lobe_kernels[l], cl::Kernel()});
-      if (has_lobe[l]) {
-        shading_args(shade.back());
-        shade.back().kernel.setArg(10, snap_f);
-        shade.back().kernel.setArg(11, snap_u);
-        shade.back().kernel.setArg(13, tags);
-      }
-    }
-    Stage shadow = make("intersect_shadow", "intersect_shadow");
-    shadow.kernel.setArg(1, sf); shadow.kernel.setArg(2, su); shadow.kernel.setArg(3, queues);
-    shadow.kernel.setArg(5, nodes); shadow.kernel.setArg(6, tris); shadow.kernel.setArg(7, lights);
-    shadow.kernel.setArg(8, tri_info); shadow.kernel.setArg(9, materials);
-    Stage accum = make("accumulate", "accumulate");
-    accum.kernel.setArg(1, sf); accum.kernel.setArg(2, su); accum.kernel.setArg(3, queues);
-    accum.kernel.setArg(4, counters); accum.kernel.setArg(6, samples); accum.kernel.setArg(7, stats);
-    accum.kernel.setArg(8, snap_f); accum.kernel.setArg(9, snap_u); accum.kernel.setArg(10, tags);
-    Stage filmacc = make("film_accumulate", "film_accumulate");
-    filmacc.kernel.setArg(1, samples); filmacc.kernel.setArg(2, film); filmacc.kernel.setArg(3, film_count);
-
-    std::vector<Stage*> all = {&regen, &isect, &classify, &pass};
-    for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
-      if (has_lobe[l]) all.push_back(&shade[l]);
-    for (Stage* s : {&shadow, &accum, &filmacc}) all.push_back(s);
-    auto count_arg = [&](const Stage* s) {
-      if (s == &pass) return 3;
-      if (s == &isect || s == &shadow) return 4;
-      if (s == &filmacc) return -1;
-      return 5;
-    };
-    // The `dense` argument of the stages that can run over the pool in slot order, or -1.
-    auto dense_arg = [&](const Stage* s) {
-      if (s == &isect) return 8;
-      if (s == &classify || s == &shadow) return 10;
-      for (const Stage& l : shade)
-        if (s == &l) return 12;
-      return -1;
-    };
-    // A queue holding at least this share of the pool is consumed by a dense launch: one
-    // work-item per slot, in slot order (kernels.cl, AW_DENSE_ITEM). The scattered slot order
-    // that appends leave behind costs more than the idle work-items of a dense launch once a
-    // queue holds about a quarter of the pool (docs/architecture.md, "Dense launches").
-    const double dense_fraction = opts.dense_fraction >= 0.0 ? opts.dense_fraction : kDenseFraction;
-
-    // PoCL compiles the work-group function of a kernel at its first launch with a given
-    // local size, not at clBuildProgram: launch every stage once on zero items now, so that
-    // cost is reported as compile time and not as the first iteration's stage time. PoCL also
-    // builds a second work-group function for large grids (above ~2^16 work-items) at the
-    // first such launch: a second, large launch on zero items compiles that one too (every
-    // work-item masks itself out by the count, so nothing is written).
-    {
-      auto t0 = Clock::now();
-      rp.job_count = 0;
-      for (Stage* s : all) {
-        s->kernel.setArg(0, sizeof(RenderParams), &rp);
-        if (count_arg(s) >= 0) s->kernel.setArg(count_arg(s), 0u);
-        if (dense_arg(s) >= 0) s->kernel.setArg(dense_arg(s), 0u);
-        if (s == &regen) s->kernel.setArg(6, 0u);
-        for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
-          q.enqueueNDRangeKernel(s->kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
-      }
-      q.finish();
-      st.compile_seconds += since(t0);
-    }
-
-    uint32_t cnt[AW_Q_COUNT] = {};
-    auto push_counters = [&] { q.enqueueWriteBuffer(counters, CL_TRUE, 0, sizeof cnt, cnt); };
-    auto pull_counters = [&] { q.enqueueReadBuffer(counters, CL_TRUE, 0, sizeof cnt, cnt); };
-    // Runs one stage over `n` items and waits, so its time is its own. Stages that append
-    // to queues get the host's counters first and return the new ones.
-    auto run = [&](Stage& s, size_t n, bool counts) {
-      if (n == 0 && &s != &filmacc) return;
-      auto t0 = Clock::now();
-      if (counts) push_counters();
-      s.kernel.setArg(0, sizeof(RenderParams), &rp);
-      if (count_arg(&s) >= 0) s.kernel.setArg(count_arg(&s), uint32_t(n));
-      bool dense = dense_arg(&s) >= 0 && double(n) >= dense_fraction * double(pool);
-      if (dense_arg(&s) >= 0) s.kernel.setArg(dense_arg(&s), uint32_t(dense));
-      size_t global = dense ? size_t(pool) : pad_to_group(n);  // pool is a multiple of the group
-      q.enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
-      if (counts) pull_counters();
-      else q.finish();
-      s.seconds += since(t0);
-      s.items += n;
-    };
-
-    ProgressLine progress("rendering", total_jobs, opts.progress);
-    uint64_t jobs_done = 0;
-    while (jobs_done < total_jobs) {
-      if (opts.cancel && opts.cancel->load()) break;
-      uint32_t batch = uint32_t(std::min<uint64_t>(max_batch, total_jobs - jobs_done));
-      rp.batch_pixel = uint32_t(jobs_done % npix);
-      rp.batch_sample = uint32_t(jobs_done / npix);
-      rp.job_count = batch;
-      q.enqueueWriteBuffer(queues, CL_TRUE, size_t(AW_Q_FREE) * pool * 4, size_t(pool) * 4, identity.data());
-      q.enqueueFillBuffer(tags, uint32_t(AW_Q_FREE), 0, size_t(pool) * 4);
-      std::fill(cnt, cnt + AW_Q_COUNT, 0u);
-      cnt[AW_Q_FREE] = pool;
-      uint32_t next_job = 0, issue_limit = batch;
-      for (;;) {
-        // An interrupt stops new paths; the ones in flight finish (bounded by max_depth), so
-        // every job issued so far lands in the film.
-        if (opts.cancel && opts.cancel->load()) issue_limit = next_job;
-        uint32_t take = std::min(cnt[AW_Q_FREE], issue_limit - next_job);
-        if (take) {
-          regen.kernel.setArg(6, next_job);
-          run(regen, take, true);
-          next_job += take;
-        }
-        cnt[AW_Q_FREE] = 0;  // leftover free slots only remain when no jobs are left
-        uint32_t n_ray = cnt[AW_Q_RAY];
-        // Lobe queues can be non-empty here: accumulate sends split paths back to them.
-        uint32_t n_lobe = 0;
-        for (uint32_t l = 0; l < AW_LID_COUNT; ++l) n_lobe += cnt[AW_Q_LOBE + l];
-        if (n_ray == 0 && n_lobe == 0) {
-          if (next_job >= issue_limit) break;
-          // No path in flight and jobs left means slots were lost: a broken scheduling rule.
-          throw std::logic_error("wavefront: no path in flight but jobs remain (a stage lost a path)");
-        }
-        ++st.iterations;
-        st.closest_rays += n_ray;
-        run(isect, n_ray, false);
-        run(classify, n_ray, true);
-        cnt[AW_Q_RAY] = 0;  // consumed; shading and pass-through refill it
-        run(pass, cnt[AW_Q_PASS], true);
-        cnt[AW_Q_PASS] = 0;
-        for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
-          uint32_t n = cnt[AW_Q_LOBE + l];
-          if (n && !has_lobe[l])
-            throw std::logic_error(std::string("wavefront: paths queued for lobe '") + lobe_kernels[l] +
-                                   "', which this kernel build does not have");
-          run(shade[l], n, true);
-          cnt[AW_Q_LOBE + l] = 0;
-        }
-        uint32_t n_shadow = cnt[AW_Q_SHADOW];
-        st.shadow_rays += n_shadow;
-        run(shadow, n_shadow, false);
-        cnt[AW_Q_SHADOW] = 0;
-        run(accum, cnt[AW_Q_DONE], true);
-        cnt[AW_Q_DONE] = 0;
-        uint32_t in_flight = cnt[AW_Q_RAY];
-        for (uint32_t l = 0; l < AW_LID_COUNT; ++l) in_flight += cnt[AW_Q_LOBE + l];
-        progress.update(jobs_done + next_job - std::min(next_job, in_flight));
-      }
-      rp.job_count = next_job;
-      run(filmacc, npix, false);
-      jobs_done += next_job;
-      st.samples += next_job;
-      progress.update(jobs_done);
-      if (next_job < batch) break;  // interrupted
-    }
-    progress.finish();
-    st.interrupted = jobs_done < total_jobs;
-
-    res.width = int(rp.width);
-    res.height = int(rp.height);
-    res.sum.resize(size_t(npix) * 3);
-    res.count.resize(npix);
-    q.enqueueReadBuffer(film, CL_TRUE, 0, res.sum.size() * 4, res.sum.data());
-    q.enqueueReadBuffer(film_count, CL_TRUE, 0, res.count.size() * 4, res.count.data());
-    std::vector<uint32_t> stat_vals(AW_STAT_COUNT);
-    q.enqueueReadBuffer(stats, CL_TRUE, 0, stat_vals.size() * 4, stat_vals.data());
-    st.bad_samples = stat_vals[AW_STAT_BAD_SAMPLES];
-    if (stat_vals[AW_STAT_MISSING_FEATURE] > 0)
-      throw std::logic_error(std::to_string(stat_vals[AW_STAT_MISSING_FEATURE]) +
-                             " paths met a material feature that the specialised kernels lack (" +
-                             st.kernel_features + "); the image would be wrong, so none is written. "
-                             "--generic-kernels renders it; please report this scene");
-    for (Stage* s : all)
-      if (s->seconds > 0.0) {
-        st.stage_seconds.emplace_back(s->name, s->seconds);
-        st.stage_items.push_back(s->items);
-      }
-  } catch (const cl::Error& e) {
-    throw ClError(std::string("OpenCL error while rendering on ") + rt.info().name + ": " + e.what() + " (" +
-                  cl_error_name(e.err()) + ")");
-  }
-  st.total_seconds = since(t_start);
+  res.stats.renderer = "wavefront";
+  Wavefront(scene, opts, res).render();
+  res.stats.total_seconds = since(t_start);
   return res;
 }
 

@@ -1,13 +1,14 @@
 // The host scalar path: the cross-check of the wavefront. It runs one path at a time through
-// the SAME stage functions (kernels/integrator/*.h compiled as C++), like Cycles' CPU
-// megakernel, but casts rays with Embree's rtcIntersect1/rtcOccluded1: an independent
-// traversal, so a BVH or intersection bug shows up as a difference between the two.
-// It consumes the same random numbers and sums each pixel's samples in the same order as
+// the SAME stage functions as the kernels, by way of kernels/integrator/megakernel.h compiled
+// as C++, but casts rays with Embree's rtcIntersect1/rtcOccluded1 (ray_cast_embree.cpp): an
+// independent traversal, so a BVH or intersection bug shows up as a difference between the
+// two. It consumes the same random numbers and sums each pixel's samples in the same order as
 // film_accumulate, so the two images agree pixel by pixel, not only on average.
 #include <algorithm>
-#include <cmath>
 #include <atomic>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "host/bvh/flat_bvh.h"
@@ -15,12 +16,8 @@
 #include "host/render/features.h"
 #include "host/render/render.h"
 #include "host/render/scene_pack.h"
-#include "kernels/integrator/accumulate.h"
-#include "kernels/integrator/classify_hit.h"
-#include "kernels/integrator/generate_camera_ray.h"
-#include "kernels/integrator/shade_surface.h"
-#include "kernels/integrator/shade_shadow.h"
-#include "kernels/integrator/split.h"
+#include "host/scalar/ray_cast_embree.h"
+#include "kernels/integrator/megakernel.h"
 
 namespace aw {
 
@@ -44,8 +41,6 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   st.scene_bytes = packed_arrays_bytes(packed);  // Embree's BVH is Embree's business, not counted
 
   const RenderParams base = packed.params;
-  // Cutout surfaces let shadow rays through: step with closest hits only when there are any.
-  const bool cutouts = derive_features(packed).on[FeatureSet::CUTOUT];
   const uint32_t npix = base.width * base.height;
   const uint32_t spp = uint32_t(scene.render.spp);
   res.width = int(base.width);
@@ -53,14 +48,18 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   res.sum.assign(size_t(npix) * 3, 0.0f);
   res.count.assign(npix, 0u);
 
+  const HostRayCaster caster{&escene};
   SceneRef sc;
   sc.tri_info = packed.tri_info.data();
   sc.verts = packed.verts.data();
   sc.materials = packed.materials.data();
   sc.lights = packed.lights.data();
+  sc.caster = &caster;
+  // Shadow rays step through cutout surfaces only when the scene has any (intersect_shadow.h).
+  sc.cutouts = packed.features.on[FeatureSet::CUTOUT] ? 1 : 0;
 
   std::atomic<uint32_t> next_row{0};
-  std::atomic<uint64_t> closest{0}, shadow{0}, bad_total{0}, done_samples{0};
+  std::atomic<uint64_t> closest{0}, shadow{0}, bad_total{0}, missing{0}, done_samples{0};
   ProgressLine progress("rendering (scalar)", uint64_t(npix) * spp, opts.progress);
 
   auto worker = [&] {
@@ -77,7 +76,7 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
     ps.slot = 0;
     RenderParams rp = base;
     rp.pool_size = 1;
-    uint64_t n_closest = 0, n_shadow = 0, n_bad = 0;
+    MegakernelCounts counts = {0, 0, 0, 0};
     for (;;) {
       if (opts.cancel && opts.cancel->load()) break;
       uint32_t y = next_row.fetch_add(1);
@@ -90,69 +89,7 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
           rp.batch_pixel = pixel;
           rp.batch_sample = s;
           rp.job_count = 1;
-          generate_camera_ray(ps, &rp, 0u);
-          // The wavefront's stages in its order: RAY -> (closest hit, classify) -> LOBE + lid
-          // -> (shade, shadow ray) -> RAY | DONE; DONE -> accumulate, which may send a split
-          // path back to its first-hit lobe (split.h).
-          int next = AW_Q_RAY;
-          float3 l(0.0f);
-          for (;;) {
-            if (next == AW_Q_RAY) {
-              float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
-              // Embree's t_near is inclusive, the kernels' t_min exclusive (see classify_hit).
-              float tmin = PS_F(ps, ray_tmin);
-              EmbreeScene::Hit h = escene.intersect(o, d, tmin > 0.0f ? std::nextafter(tmin, FLT_MAX) : 0.0f, FLT_MAX);
-              ++n_closest;
-              float t = h.t;
-              int light = lights_intersect(sc.lights, rp.num_lights, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
-              if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, uint32_t(light));
-              else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? uint32_t(h.prim) : AW_NONE, AW_NONE);
-              next = classify_hit(ps, sc, &rp);
-              if (next == AW_Q_PASS) next = AW_Q_RAY;  // cutout: the ray goes on through the surface
-              continue;
-            }
-            if (next >= AW_Q_LOBE) {
-              next = shade_surface(ps, sc, &rp, uint32_t(next - AW_Q_LOBE));
-              if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) {
-                ++n_shadow;
-                float3 so = ps_shadow_origin(ps), sd = ps_shadow_dir(ps);
-                float tmax = PS_F(ps, sh_tmax);
-                bool occ;
-                if (!cutouts) {
-                  occ = escene.occluded(so, sd, 0.0f, tmax);
-                } else {
-                  // Same steps as intersect_shadow; Embree's t_near is inclusive, ours
-                  // exclusive, hence the next float after the surface passed.
-                  occ = false;
-                  float t0 = 0.0f;
-                  for (int k = 0; k < AW_SHADOW_CUTOUT_STEPS; ++k) {
-                    EmbreeScene::Hit sh = escene.intersect(so, sd, k == 0 ? 0.0f : std::nextafter(t0, FLT_MAX), tmax);
-                    if (sh.prim < 0) break;
-                    if (!surface_is_cutout(sc, uint32_t(sh.prim)) || k == AW_SHADOW_CUTOUT_STEPS - 1) {
-                      occ = true;
-                      break;
-                    }
-                    t0 = sh.t;
-                  }
-                }
-                if (!occ) {
-                  float tl = tmax;
-                  occ = lights_intersect(sc.lights, rp.num_lights, so, sd, 0.0f, &tl, 0, int(PS_U(ps, sh_light))) >= 0;
-                }
-                shade_shadow(ps, occ ? 1 : 0);
-              }
-              continue;
-            }
-            // DONE: what accumulate does.
-            int bad = 0;
-            l = path_result(ps, &rp, &bad);
-            n_bad += uint64_t(bad);
-            if ((PS_U(ps, flags) & AW_PATH_SPLIT) && split_next(ps, &rp, l, &l)) {
-              next = int(AW_Q_LOBE + PS_U(ps, lobe));
-              continue;
-            }
-            break;
-          }
+          float3 l = megakernel_path(ps, sc, &rp, 0u, &counts);
           // Same order and precision as film_accumulate: film + s0 + s1 + ...
           sum.x += l.x;
           sum.y += l.y;
@@ -165,9 +102,10 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
       }
       progress.update(done_samples.fetch_add(uint64_t(base.width) * spp) + uint64_t(base.width) * spp);
     }
-    closest += n_closest;
-    shadow += n_shadow;
-    bad_total += n_bad;
+    closest += counts.closest;
+    shadow += counts.shadow;
+    bad_total += counts.bad;
+    missing += counts.missing;
   };
 
   auto t_render = Clock::now();
@@ -180,6 +118,10 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   st.closest_rays = closest;
   st.shadow_rays = shadow;
   st.bad_samples = bad_total;
+  // The scalar path is the generic build: no path can miss a feature; if one did, the image
+  // would be wrong, so none is returned.
+  if (missing > 0)
+    throw std::logic_error("scalar path: " + std::to_string(missing.load()) + " paths met a feature the build lacks");
   st.samples = done_samples;
   st.interrupted = done_samples < uint64_t(npix) * spp;
   st.total_seconds = since(t_start);

@@ -8,7 +8,7 @@ namespace aw {
 namespace scene_detail {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = M_PI;
 
 // cos/sin of an angle in degrees, exact for multiples of 90 degrees. cos(pi/2) in floating
 // point is 6e-17, not 0; exactness keeps rotated boxes axis-aligned and their bounds exact.

@@ -1,7 +1,7 @@
 // One physics source for two compilers: this header lets every file under kernels/ compile
 // unchanged as OpenCL C 1.2 (device) and as C++17 (host scalar path, tests).
 //
-// Rules for shared code (see STYLE.md):
+// Rules for shared code (docs/design.md, "Rules for shared code"):
 // - functions are AW_FN (static inline), snake_case, no overloads in shared code;
 // - pointers into buffers are AW_GLOBAL (empty on the host);
 // - float3 is a math type only: OpenCL's float3 is 16 bytes, so structs shared with the host
@@ -21,9 +21,8 @@
 #pragma OPENCL FP_CONTRACT OFF
 #define AW_FN static inline
 #define AW_GLOBAL __global
-#define AW_CONSTANT __constant
-#define AW_PRIVATE __private
-#define AW_ASSERT_HOST(x)
+// Invariant checks cost nothing on the device (see the host's definition below).
+#define AW_KERNEL_ASSERT(x) ((void)0)
 
 #define make_float2(x, y) ((float2)((x), (y)))
 #define make_float3(x, y, z) ((float3)((x), (y), (z)))
@@ -41,15 +40,24 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <algorithm>
 
 #define AW_DEVICE 0
 #define AW_FN static inline
 #define AW_GLOBAL
-#define AW_CONSTANT const
-#define AW_PRIVATE
-#define AW_ASSERT_HOST(x) assert(x)
+
+// Invariant checks of the shared code, as Cycles' kernel_assert: compiled out of the device
+// build, and checked wherever the same code runs on the host (the scalar path, the tests),
+// in every build type: a broken invariant there names the file and line and aborts instead
+// of rendering a wrong image. Only cheap checks belong here (they run per path and stage).
+[[noreturn]] static inline void aw_kernel_assert_failed(const char* what, const char* file, int line) {
+  std::fprintf(stderr, "archwave: kernel invariant failed: %s (%s:%d)\n", what, file, line);
+  std::abort();
+}
+#define AW_KERNEL_ASSERT(x) ((x) ? (void)0 : aw_kernel_assert_failed(#x, __FILE__, __LINE__))
 
 typedef glm::vec2 float2;
 typedef glm::vec3 float3;

@@ -1,9 +1,14 @@
-// From: DONE / To: FREE. The path's final sample value: NaN/Inf samples are discarded
-// (counted, contribute zero) so they never reach the film; optional clamping (biased).
+// From: DONE / To: FREE (the job's sample value is final), or LOBE + lid (the path was one
+// split of its first-hit lobe and the next split starts there, integrator/split.h).
+// The path's sample value: NaN/Inf/negative samples are discarded (counted, contribute zero)
+// so they never reach the film; optional clamping (biased).
 #ifndef AW_INTEGRATOR_ACCUMULATE_H
 #define AW_INTEGRATOR_ACCUMULATE_H
 
+#include "common/features.h"
 #include "integrator/path_state.h"
+#include "integrator/queues.h"
+#include "integrator/split.h"
 #include "types/scene.h"
 
 AW_FN float3 path_result(PathRef ps, const RenderParams* rp, int* bad) {
@@ -18,6 +23,25 @@ AW_FN float3 path_result(PathRef ps, const RenderParams* rp, int* bad) {
     if (m > rp->clamp) l = l * (rp->clamp / m);
   }
   return l;
+}
+
+// What accumulate_path reports for the stats counters (queues.h, AW_STAT_*).
+#define AW_ACC_BAD 1u      // the sample was discarded
+#define AW_ACC_MISSING 2u  // the path met a feature this build lacks
+
+// Ends a path (or one split of it). Returns AW_Q_FREE with the job's sample value in *value,
+// or the lobe queue of the next split (*value untouched). *events: AW_ACC_* of this path.
+AW_FN int accumulate_path(PathRef ps, const RenderParams* rp, float3* value, uint* events) {
+  int bad;
+  float3 l = path_result(ps, rp, &bad);
+  // Read before split_next: it restores the first-hit state, flags included.
+  *events = (bad ? AW_ACC_BAD : 0u) | ((PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) ? AW_ACC_MISSING : 0u);
+  if (AW_FEAT_SPLIT && (PS_U(ps, flags) & AW_PATH_SPLIT) && split_next(ps, rp, l, &l)) {
+    AW_KERNEL_ASSERT(PS_U(ps, lobe) < (uint)AW_LID_COUNT);
+    return AW_Q_LOBE + (int)PS_U(ps, lobe);
+  }
+  *value = l;
+  return AW_Q_FREE;
 }
 
 #endif

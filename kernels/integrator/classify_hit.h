@@ -1,6 +1,8 @@
-// From: RAY (after intersect_closest) / To: one lobe queue (DIFFUSE) or DONE.
+// From: RAY (after intersect_closest) / To: one lobe queue (LOBE + lid), PASS (a cutout: the
+// same ray goes on beyond the surface) or DONE.
 // Adds what the ray saw if it ended (a light, or the environment), otherwise builds the
-// shading point and chooses the lobe that will scatter the path.
+// shading point and chooses the lobe that will scatter the path. classify_hit at the end of
+// this file reads as the list of its steps.
 #ifndef AW_INTEGRATOR_CLASSIFY_HIT_H
 #define AW_INTEGRATOR_CLASSIFY_HIT_H
 
@@ -14,6 +16,7 @@
 #include "lights/lights.h"
 #include "lobes/fog.h"
 #include "material/architectural.h"
+#include "material/lobe_list.h"
 
 AW_FN float3 vertex_position(const AW_GLOBAL VertexData* v) { return make_float3(v->p[0], v->p[1], v->p[2]); }
 AW_FN float3 vertex_normal(const AW_GLOBAL VertexData* v) { return make_float3(v->n[0], v->n[1], v->n[2]); }
@@ -56,53 +59,58 @@ AW_FN float3 interpolated_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBA
   return triangle_tangent(v0, v1, v2, p0, p1, p2, n);
 }
 
-AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
-  float3 dir = ps_ray_dir(ps);
-  uint bounce = PS_U(ps, bounce);
-  uint light = PS_U(ps, hit_light);
+// The shading point of a triangle hit, both normals facing the side the ray came from.
+typedef struct {
+  float3 p;       // on the triangle's plane
+  float3 n;       // shading normal
+  float3 ng;      // geometric normal
+  float3 p0, p1, p2;
+  float b0, b1, b2;  // barycentrics of p
+  int front;      // the ray arrived on the outside of the surface
+} HitPoint;
 
-  // Fog: the segment just traced ran inside a foggy object (Beer-Lambert, MATERIAL.md §3).
-#if AW_FEAT_FOG
-  if (PS_U(ps, medium) != AW_NONE) {
-    const AW_GLOBAL MaterialGpu* fm = &sc.materials[PS_U(ps, medium)];
-    float3 tr = fog_transmittance(load_f3(fm->fog_end_color), fm->fog_distance,
-                                  (fm->flags & AW_MAT_FOG_END_COLOR) != 0u, PS_F(ps, hit_t));
-    ps_set_throughput(ps, ps_throughput(ps) * tr);
-  }
-#endif
-  float3 thr = ps_throughput(ps);
+// Fog: the segment just traced ran inside a foggy object (Beer-Lambert, docs/material.md §3.7).
+AW_FN void classify_fog(PathRef ps, SceneRef sc) {
+  if (!(AW_FEAT_FOG && PS_U(ps, medium) != AW_NONE)) return;
+  const AW_GLOBAL MaterialGpu* fm = &sc.materials[PS_U(ps, medium)];
+  float3 tr = fog_transmittance(load_f3(fm->fog_end_color), fm->fog_distance,
+                                (fm->flags & AW_MAT_FOG_END_COLOR) != 0u, PS_F(ps, hit_t));
+  ps_set_throughput(ps, ps_throughput(ps) * tr);
+}
 
-  if (light != AW_NONE) {
-    // Emission seen by a BSDF-sampled ray: MIS against light sampling, which could have
-    // produced the same direction (Veach 1997, Sec. 9.2). Camera rays and delta bounces
-    // cannot be light-sampled, so they take the full contribution.
-    const AW_GLOBAL LightGpu* l = &sc.lights[light];
-    float3 le = light_emitted(l, dir);
-    float w = 1.0f;
-    if (bounce > 0u && !(PS_U(ps, flags) & AW_PATH_SPECULAR)) {
-      float pdf_light = l->select_pdf * light_pdf(l, ps_ray_origin(ps), dir, PS_F(ps, hit_t));
-      w = mis_power(PS_F(ps, bsdf_pdf), pdf_light);
-    }
-    ps_add_radiance(ps, thr * le * (w * PS_F(ps, emit_scale)));
-    return AW_Q_DONE;
+// Emission seen by the ray when it hit a light: MIS against light sampling, which could have
+// produced the same direction (Veach 1997, Sec. 9.2). Camera rays and delta bounces cannot
+// be light-sampled, so they take the full contribution.
+AW_FN void classify_light_hit(PathRef ps, SceneRef sc, uint light, float3 dir, float3 thr) {
+  const AW_GLOBAL LightGpu* l = &sc.lights[light];
+  float3 le = light_emitted(l, dir);
+  float w = 1.0f;
+  if (PS_U(ps, bounce) > 0u && !(PS_U(ps, flags) & AW_PATH_SPECULAR)) {
+    float pdf_light = l->select_pdf * light_pdf(l, ps_ray_origin(ps), dir, PS_F(ps, hit_t));
+    w = mis_power(PS_F(ps, bsdf_pdf), pdf_light);
   }
-  if (PS_U(ps, hit_prim) == AW_NONE) {
-    // Constant environment: no light sampling for it yet, so BSDF sampling takes it all.
-    ps_add_radiance(ps, thr * load_f3p(rp->env_radiance) * PS_F(ps, emit_scale));
-    return AW_Q_DONE;
-  }
+  ps_add_radiance(ps, thr * le * (w * PS_F(ps, emit_scale)));
+}
 
-  const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
-  const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
-  const AW_GLOBAL VertexData* v0 = &sc.verts[tri->v[0]];
-  const AW_GLOBAL VertexData* v1 = &sc.verts[tri->v[1]];
-  const AW_GLOBAL VertexData* v2 = &sc.verts[tri->v[2]];
-  float b1 = PS_F(ps, hit_u), b2 = PS_F(ps, hit_v), b0 = 1.0f - b1 - b2;
-  float3 p0 = vertex_position(v0), p1 = vertex_position(v1), p2 = vertex_position(v2);
+// The ray left the scene: the constant environment. No light sampling for it yet, so BSDF
+// sampling takes it all.
+AW_FN void classify_environment(PathRef ps, const RenderParams* rp, float3 thr) {
+  ps_add_radiance(ps, thr * load_f3p(rp->env_radiance) * PS_F(ps, emit_scale));
+}
+
+AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
+                                  const AW_GLOBAL VertexData* v2, float3 dir) {
+  HitPoint h;
+  h.b1 = PS_F(ps, hit_u);
+  h.b2 = PS_F(ps, hit_v);
+  h.b0 = 1.0f - h.b1 - h.b2;
+  h.p0 = vertex_position(v0);
+  h.p1 = vertex_position(v1);
+  h.p2 = vertex_position(v2);
   // Position from barycentrics rather than o + t d: exact on the triangle's plane, so the
   // ray offset below starts from the surface and not from a point slightly behind it.
-  float3 p = b0 * p0 + b1 * p1 + b2 * p2;
-  float3 ng = cross(p1 - p0, p2 - p0);
+  h.p = h.b0 * h.p0 + h.b1 * h.p1 + h.b2 * h.p2;
+  float3 ng = cross(h.p1 - h.p0, h.p2 - h.p0);
   float ng_len2 = dot(ng, ng);
   // Degenerate triangles are never hit by the watertight test, but a nearly degenerate one
   // can be: fall back to facing the ray.
@@ -110,7 +118,7 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   float3 nshade = ng;
   int has_n = 0;
   if (v0->n[3] != 0.0f) {
-    float3 n = b0 * vertex_normal(v0) + b1 * vertex_normal(v1) + b2 * vertex_normal(v2);
+    float3 n = h.b0 * vertex_normal(v0) + h.b1 * vertex_normal(v1) + h.b2 * vertex_normal(v2);
     float n_len2 = dot(n, n);
     if (n_len2 > 0.0f && isfinite(n_len2)) {
       nshade = n / sqrt(n_len2);
@@ -120,73 +128,58 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   // The outside of the surface: where the shading normals point (robust to winding), or the
   // winding's normal for meshes without normals.
   if (has_n && dot(nshade, ng) < 0.0f) ng = -ng;
-  int front = dot(ng, dir) < 0.0f;
-  if (!front) {
+  h.front = dot(ng, dir) < 0.0f;
+  if (!h.front) {
     ng = -ng;  // from here on both normals face the side the ray came from
     nshade = -nshade;
   }
   // Interpolated normals can face away from the viewer near silhouettes even though the
   // triangle faces it; every lobe would then reject wo. Use the true surface there.
   if (dot(nshade, ng) < 0.0f || dot(nshade, dir) >= 0.0f) nshade = ng;
+  h.n = nshade;
+  h.ng = ng;
+  return h;
+}
 
-  if (material_uses_missing_feature(m)) {
-    // The host derived the features from this very scene, so this cannot happen; if it
-    // does, it is counted and the host refuses the image rather than render it wrong.
-    PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
-    return AW_Q_DONE;
-  }
-
-  // Cutout: below 0.5 opacity the surface is not there (MATERIAL.md §1): the SAME ray goes
-  // on beyond it (t_min = this hit; the traversal accepts t > t_min only), so a light it
-  // then finds is MIS-weighted from the true origin. Shadow rays step through cutouts too
-  // (shade_shadow.h).
-#if AW_FEAT_CUTOUT
-  if (m->cutout_opacity < 0.5f) {
-    PS_F(ps, ray_tmin) = PS_F(ps, hit_t);
-    return AW_Q_PASS;
-  }
-#endif
-
-  // Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
-  // so no MIS: found by BSDF sampling only.)
-#if AW_FEAT_INCANDESCENCE
-  float3 inc = load_f3(m->incandescent);
-  if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * PS_F(ps, emit_scale));
-#endif
-
-  // A path that has used up its scattering events ends here. (Its last ray was still
-  // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
-  if (bounce >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY)) return AW_Q_DONE;
-
-  PS_F(ps, sp_px) = p.x; PS_F(ps, sp_py) = p.y; PS_F(ps, sp_pz) = p.z;
-  PS_F(ps, sp_nx) = nshade.x; PS_F(ps, sp_ny) = nshade.y; PS_F(ps, sp_nz) = nshade.z;
-  PS_F(ps, sp_gx) = ng.x; PS_F(ps, sp_gy) = ng.y; PS_F(ps, sp_gz) = ng.z;
-  PS_U(ps, material) = tri->material;
-  if (front) PS_U(ps, flags) |= AW_PATH_FRONT;
+// Writes the shading point for the lobe stage; returns the tangent (zero unless the material
+// is anisotropic: only the reflection frame reads it).
+AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGpu* m, uint material, HitPoint h,
+                                          const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
+                                          const AW_GLOBAL VertexData* v2) {
+  PS_F(ps, sp_px) = h.p.x; PS_F(ps, sp_py) = h.p.y; PS_F(ps, sp_pz) = h.p.z;
+  PS_F(ps, sp_nx) = h.n.x; PS_F(ps, sp_ny) = h.n.y; PS_F(ps, sp_nz) = h.n.z;
+  PS_F(ps, sp_gx) = h.ng.x; PS_F(ps, sp_gy) = h.ng.y; PS_F(ps, sp_gz) = h.ng.z;
+  PS_U(ps, material) = material;
+  if (h.front) PS_U(ps, flags) |= AW_PATH_FRONT;
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
-  float3 tangent = make_float3(0.0f, 0.0f, 0.0f);  // read only for anisotropic materials
-#if AW_FEAT_ANISOTROPY
-  if (m->aniso_amount != 0.0f) {
-    tangent = m->aniso_orientation == AW_ANISO_UV ? triangle_tangent(v0, v1, v2, p0, p1, p2, nshade)
-                                                  : interpolated_tangent(v0, v1, v2, b0, b1, b2, p0, p1, p2, nshade);
+  float3 tangent = make_float3(0.0f, 0.0f, 0.0f);
+  if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f) {
+    tangent = m->aniso_orientation == AW_ANISO_UV
+                  ? triangle_tangent(v0, v1, v2, h.p0, h.p1, h.p2, h.n)
+                  : interpolated_tangent(v0, v1, v2, h.b0, h.b1, h.b2, h.p0, h.p1, h.p2, h.n);
     PS_F(ps, sp_tx) = tangent.x; PS_F(ps, sp_ty) = tangent.y; PS_F(ps, sp_tz) = tangent.z;
   }
-#endif
+  return tangent;
+}
 
-  // Lobe choice (MATERIAL.md §2): in proportion to each lobe's share of the energy, the
-  // reflection lobes' Fresnel taken at the microfacet their sample will use: the same frame
-  // and the same random numbers as shade_surface (material_lobe_weights_sampled says why).
-  // Materials without reflection need neither the frame nor the random numbers.
+// Lobe choice (docs/material.md §2): in proportion to each lobe's share of the energy, the
+// reflection lobes' Fresnel taken at the microfacet their sample will use: the same frame
+// and the same random numbers as shade_surface (material_lobe_weights_sampled says why).
+// Materials without reflection need neither the frame nor the random numbers. Returns the
+// lobe's queue, or DONE when no lobe has energy.
+AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const RenderParams* rp, float3 dir,
+                               float3 n, float3 tangent, int front) {
+  uint bounce = PS_U(ps, bounce);
   LobeWeights lw;
   if (AW_FEAT_REFLECTION && (m->refl[0].weight > 0.0f || m->refl[1].weight > 0.0f)) {
     float3 rt, rb;
-    material_reflection_frame(m, nshade, tangent, &rt, &rb);
+    material_reflection_frame(m, n, tangent, &rt, &rb);
     float2 u_bsdf = rng_2d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
-    lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, nshade), u_bsdf, front);
+    lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, n), u_bsdf, front);
   } else {
     lw = material_lobe_weights_f(m, 0.0f, 0.0f, front);
   }
-  // Refraction past its depth returns black (MATERIAL.md §5).
+  // Refraction past its depth returns black (docs/material.md §5).
   if ((PS_U(ps, depths) >> 16) >= m->refr_depth) lw.prob[AW_LID_REFRACTION] = 0.0f;
   float total = 0.0f;
   for (uint i = 0; i < AW_LID_COUNT; ++i) total += lw.prob[i];
@@ -194,7 +187,7 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] /= total;
   uint lid = material_pick_lobe(&lw, rng_1d(rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE));
   if (lid >= AW_LID_COUNT) return AW_Q_DONE;
-  if (!lobe_compiled(lid)) {  // unreachable after the material check above; kept as a guard
+  if (!lobe_compiled(lid)) {  // unreachable after the material check in classify_hit; kept as a guard
     PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
     return AW_Q_DONE;
   }
@@ -202,6 +195,62 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   PS_F(ps, lobe_wr) = w.x; PS_F(ps, lobe_wg) = w.y; PS_F(ps, lobe_wb) = w.z;
   PS_U(ps, lobe) = lid;
   return AW_Q_LOBE + (int)lid;
+}
+
+AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
+  float3 dir = ps_ray_dir(ps);
+  classify_fog(ps, sc);
+  float3 thr = ps_throughput(ps);
+
+  // 1. The ray ended: on a light, or in the environment.
+  uint light = PS_U(ps, hit_light);
+  if (light != AW_NONE) {
+    classify_light_hit(ps, sc, light, dir, thr);
+    return AW_Q_DONE;
+  }
+  if (PS_U(ps, hit_prim) == AW_NONE) {
+    classify_environment(ps, rp, thr);
+    return AW_Q_DONE;
+  }
+
+  // 2. The surface it hit.
+  const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
+  const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
+  const AW_GLOBAL VertexData* v0 = &sc.verts[tri->v[0]];
+  const AW_GLOBAL VertexData* v1 = &sc.verts[tri->v[1]];
+  const AW_GLOBAL VertexData* v2 = &sc.verts[tri->v[2]];
+  HitPoint h = classify_hit_point(ps, v0, v1, v2, dir);
+
+  // 3. The feature guard. The host derived the features from this very scene, so this cannot
+  // happen; if it does, it is counted and the host refuses the image rather than render it wrong.
+  if (material_uses_missing_feature(m)) {
+    PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
+    return AW_Q_DONE;
+  }
+
+  // 4. Cutout: below 0.5 opacity the surface is not there (docs/material.md §1): the SAME ray
+  // goes on beyond it (t_min = this hit; the traversal accepts t > t_min only), so a light it
+  // then finds is MIS-weighted from the true origin. Shadow rays step through cutouts too
+  // (intersect_shadow.h).
+  if (AW_FEAT_CUTOUT && m->cutout_opacity < 0.5f) {
+    PS_F(ps, ray_tmin) = PS_F(ps, hit_t);
+    return AW_Q_PASS;
+  }
+
+  // 5. Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
+  // so no MIS: found by BSDF sampling only.)
+  if (AW_FEAT_INCANDESCENCE) {
+    float3 inc = load_f3(m->incandescent);
+    if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * PS_F(ps, emit_scale));
+  }
+
+  // 6. A path that has used up its scattering events ends here. (Its last ray was still
+  // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
+  if (PS_U(ps, bounce) >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY)) return AW_Q_DONE;
+
+  // 7. The shading point for the lobe stage, and the lobe that scatters the path.
+  float3 tangent = classify_store_shading_point(ps, m, tri->material, h, v0, v1, v2);
+  return classify_choose_lobe(ps, m, rp, dir, h.n, tangent, h.front);
 }
 
 #endif

@@ -1,6 +1,7 @@
-// The wavefront's OpenCL entry points. Each is a thin wrapper: index -> bounds check ->
-// shared stage function (kernels/integrator/*.h, the same code the host scalar path runs)
-// -> aggregated queue appends. The scheduling rule is in integrator/queues.h.
+// The wavefront's OpenCL entry points. Each is a thin wrapper: index -> slot -> the shared
+// stage function (kernels/integrator/*.h, the same code the host scalar path runs through
+// megakernel.h) -> aggregated queue appends. The scheduling rule is in integrator/queues.h;
+// every entry point takes the one argument list of integrator/stage_args.h.
 //
 // Queues live in one buffer: queue q occupies queues[q * pool .. q * pool + pool).
 // Launch contract (host/render/wavefront.cpp): an explicit local size AW_WG (>= AW_Q_COUNT)
@@ -11,26 +12,66 @@
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
 
-#include "bvh/traverse.h"
 #include "integrator/accumulate.h"
 #include "integrator/classify_hit.h"
 #include "integrator/generate_camera_ray.h"
+#include "integrator/intersect_closest.h"
+#include "integrator/intersect_shadow.h"
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
-#include "integrator/shade_shadow.h"
 #include "integrator/shade_surface.h"
-#include "integrator/split.h"
+#include "integrator/stage_args.h"
+#include "material/lobe_list.h"
 
 #ifndef AW_WG
 #define AW_WG 256
 #endif
 
+// Every stage kernel: the same attributes and the same parameters (stage_args.h).
+#define AW_STAGE_PARAM_VALUE(type, name) , const type name
+#define AW_STAGE_PARAM_BUFFER(type, name) , __global type* name
+#define AW_STAGE_KERNEL(name)                                       \
+  __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
+      const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
+
+// The path in slot `slot` and the scene, from the stage arguments.
+#define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, rp.pool_size, (slot))
+#define AW_STAGE_SCENE scene_ref_make(tri_info, verts, materials, lights, nodes, tris, rp.num_nodes)
+#define AW_QUEUE(q) (queues + (uint)(q) * rp.pool_size)
+
+static inline PathRef path_ref_make(__global float* sf, __global uint* su, __global float* snap_f,
+                                    __global uint* snap_u, uint pool, uint slot) {
+  PathRef ps;
+  ps.sf = sf;
+  ps.su = su;
+  ps.snap_f = snap_f;
+  ps.snap_u = snap_u;
+  ps.pool = pool;
+  ps.slot = slot;
+  return ps;
+}
+
+static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, const __global VertexData* verts,
+                                      const __global MaterialGpu* materials, const __global LightGpu* lights,
+                                      const __global float4* nodes, const __global float4* tris, uint num_nodes) {
+  SceneRef sc;
+  sc.tri_info = tri_info;
+  sc.verts = verts;
+  sc.materials = materials;
+  sc.lights = lights;
+  sc.nodes = nodes;
+  sc.tris = tris;
+  sc.num_nodes = num_nodes;
+  sc.cutouts = AW_FEAT_CUTOUT;  // the device build knows at compile time (scene_ref.h)
+  return sc;
+}
+
 // Queue append aggregated per work-group: local counters give each item its offset in its
 // queue, then one global atomic per non-empty queue reserves the group's range (~6x faster
-// than a global atomic per item on PoCL, DESIGN.md). `q` is the item's queue, or AW_Q_COUNT
-// for none. Must be reached by every work-item of the group.
+// than a global atomic per item on PoCL: docs/design.md, fact F4). `q` is the item's queue,
+// or AW_Q_COUNT for none. Must be reached by every work-item of the group.
 // It also records the queue in the slot's tag (tags[slot]), which is what a dense launch of
-// the queue's consumer tests (see AW_DENSE_ITEM below). SHADOW is not a tag: a path in it is
+// the queue's consumer tests (see stage_slot below). SHADOW is not a tag: a path in it is
 // also in a main queue, and the consumer tests AW_PATH_HAS_SHADOW instead.
 static inline void wg_append(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
                              uint q, uint slot, __local uint* l_n, __local uint* l_base) {
@@ -47,214 +88,103 @@ static inline void wg_append(__global uint* counters, __global uint* queues, __g
   }
   barrier(CLK_LOCAL_MEM_FENCE);  // l_n / l_base are reused by the next append
 }
+#define AW_APPEND(q, slot) wg_append(counters, queues, tags, rp.pool_size, (q), (slot), l_n, l_base)
+#define AW_APPEND_LOCALS __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT]
 
 // Which slot work-item i works on, and whether it has one. A queue launch (dense == 0) runs
 // `count` work-items over the queue's entries. A dense launch (dense != 0) runs one work-item
 // per pool slot, in slot order, and works on the slots whose tag is `qid`: the same set of
 // paths, since every append also sets the tag (wg_append). The host launches dense when a
 // queue holds most of the pool: neighbouring work-items then touch neighbouring words of
-// the SoA state instead of slots scattered by earlier appends (docs/performance.md has the
-// measurement).
-#define AW_DENSE_ITEM(qid, slot_out, active_out)                        \
-  if (dense) {                                                         \
-    slot_out = i;                                                      \
-    active_out = i < rp.pool_size && tags[i] == (uint)(qid);           \
-  } else {                                                             \
-    slot_out = i < count ? AW_QUEUE(qid)[i] : 0u;                      \
-    active_out = i < count;                                            \
+// the SoA state instead of slots scattered by earlier appends (docs/architecture.md, "Dense
+// launches"). SHADOW is not a tag: a dense shadow launch tests the path's flag instead.
+static inline int stage_slot(uint i, uint qid, uint count, uint dense, const __global uint* queues,
+                             const __global uint* tags, const __global uint* su, uint pool, uint* slot) {
+  if (dense) {
+    *slot = i;
+    if (i >= pool) return 0;
+    if (qid == AW_Q_SHADOW) return (su[(uint)AW_SU_flags * pool + i] & AW_PATH_HAS_SHADOW) != 0u;
+    return tags[i] == qid;
   }
+  *slot = i < count ? queues[qid * pool + i] : 0u;
+  return i < count;
+}
+#define AW_STAGE_SLOT(qid, slot) stage_slot(get_global_id(0), (qid), count, dense, queues, tags, su, rp.pool_size, &(slot))
 
-#define AW_PATH_REF(slot_index) \
-  PathRef ps;                   \
-  ps.sf = sf;                   \
-  ps.su = su;                   \
-  ps.snap_f = 0;                \
-  ps.snap_u = 0;                \
-  ps.pool = rp.pool_size;       \
-  ps.slot = (slot_index)
-
-#define AW_SCENE_REF          \
-  SceneRef sc;                \
-  sc.tri_info = tri_info;     \
-  sc.verts = verts;           \
-  sc.materials = materials;   \
-  sc.lights = lights
-
-#define AW_QUEUE(q) (queues + (q) * rp.pool_size)
-
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void regenerate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
-                __global uint* counters, uint count, uint job_start, __global uint* tags) {
-  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
+AW_STAGE_KERNEL(kernel_regenerate) {
+  AW_APPEND_LOCALS;
   uint i = get_global_id(0);
   uint q = AW_Q_COUNT;
   uint slot = 0u;
   if (i < count) {
     slot = AW_QUEUE(AW_Q_FREE)[i];
-    AW_PATH_REF(slot);
-    generate_camera_ray(ps, &rp, job_start + i);
+    generate_camera_ray(AW_STAGE_PATH(slot), &rp, job_start + i);
     q = AW_Q_RAY;
   }
-  wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);
+  AW_APPEND(q, slot);
 }
 
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void intersect_closest(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
-                       uint count, __global const float4* nodes, __global const float4* tris,
-                       __global const LightGpu* lights, uint dense, __global const uint* tags) {
-  uint i = get_global_id(0);
-  uint slot;
-  int active;
-  AW_DENSE_ITEM(AW_Q_RAY, slot, active);
-  if (!active) return;
-  AW_PATH_REF(slot);
-  float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
-  float tmin = PS_F(ps, ray_tmin);
-  TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, tmin, FLT_MAX, 0);
-  float t = h.t;
-  int light = lights_intersect(lights, rp.num_lights, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
-  if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, (uint)light);
-  else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? (uint)h.prim : AW_NONE, AW_NONE);
+AW_STAGE_KERNEL(kernel_intersect_closest) {
+  uint slot = 0u;
+  if (!AW_STAGE_SLOT(AW_Q_RAY, slot)) return;
+  intersect_closest(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
 }
 
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void classify_hit_stage(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
-                        __global uint* counters, uint count, __global const TriangleInfo* tri_info,
-                        __global const VertexData* verts, __global const MaterialGpu* materials,
-                        __global const LightGpu* lights, uint dense, __global uint* tags) {
-  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
-  uint i = get_global_id(0);
+AW_STAGE_KERNEL(kernel_classify_hit) {
+  AW_APPEND_LOCALS;
+  uint slot = 0u;
   uint q = AW_Q_COUNT;
-  uint slot;
-  int active;
-  AW_DENSE_ITEM(AW_Q_RAY, slot, active);
-  if (active) {
-    AW_PATH_REF(slot);
-    AW_SCENE_REF;
-    q = (uint)classify_hit(ps, sc, &rp);
-  }
-  wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);
+  if (AW_STAGE_SLOT(AW_Q_RAY, slot)) q = (uint)classify_hit(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
+  AW_APPEND(q, slot);
 }
 
 // Cutout pass-through: classify_hit consumed the RAY queue, so these wait in PASS until the
 // RAY queue can take new rays.
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void pass_through(const RenderParams rp, __global uint* queues, __global uint* counters, uint count,
-                  __global uint* tags) {
-  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
-  uint i = get_global_id(0);
-  uint slot = i < count ? AW_QUEUE(AW_Q_PASS)[i] : 0u;
-  wg_append(counters, queues, tags, rp.pool_size, i < count ? AW_Q_RAY : AW_Q_COUNT, slot, l_n, l_base);
+AW_STAGE_KERNEL(kernel_pass_through) {
+  AW_APPEND_LOCALS;
+  uint slot = 0u;
+  int active = AW_STAGE_SLOT(AW_Q_PASS, slot);
+  AW_APPEND(active ? AW_Q_RAY : AW_Q_COUNT, slot);
 }
 
-// One shading kernel per lobe queue (kernels/integrator/shade_surface.h).
-#define AW_SHADE_KERNEL(name, lid)                                                                       \
-  __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name(                                 \
-      const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,               \
-      __global uint* counters, uint count, __global const TriangleInfo* tri_info,                       \
-      __global const VertexData* verts, __global const MaterialGpu* materials,                          \
-      __global const LightGpu* lights, __global float* snap_f, __global uint* snap_u, uint dense,        \
-      __global uint* tags) {                                                                             \
-    __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];                                                    \
-    uint i = get_global_id(0);                                                                           \
-    uint q = AW_Q_COUNT, qs = AW_Q_COUNT;                                                                \
-    uint slot;                                                                                           \
-    int active;                                                                                          \
-    AW_DENSE_ITEM(AW_Q_LOBE + (lid), slot, active);                                                      \
-    if (active) {                                                                                        \
-      AW_PATH_REF(slot);                                                                                 \
-      ps.snap_f = snap_f;                                                                                \
-      ps.snap_u = snap_u;                                                                                \
-      AW_SCENE_REF;                                                                                      \
-      q = (uint)shade_surface(ps, sc, &rp, (lid));                                                       \
-      if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) qs = AW_Q_SHADOW;                                         \
-    }                                                                                                    \
-    wg_append(counters, queues, tags, rp.pool_size, qs, slot, l_n, l_base);                                    \
-    wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);                                     \
+// One shading kernel per lobe of the lobe list (material/lobe_list.h), each shade_surface with
+// its own constant lobe id. A lobe this build lacks keeps its entry point, empty: the host
+// never launches it (FeatureSet::lobe), and the per-hit check keeps paths out of its queue.
+#define AW_SHADE_KERNEL(ID, name, FEATURE, TRAITS)                                       \
+  AW_STAGE_KERNEL(kernel_shade_##name) {                                                 \
+    AW_APPEND_LOCALS;                                                                    \
+    uint slot = 0u;                                                                      \
+    uint q = AW_Q_COUNT, qs = AW_Q_COUNT;                                                \
+    if (AW_FEAT_##FEATURE && AW_STAGE_SLOT(AW_Q_LOBE + AW_LID_##ID, slot)) {             \
+      PathRef ps = AW_STAGE_PATH(slot);                                                  \
+      q = (uint)shade_surface(ps, AW_STAGE_SCENE, &rp, (uint)AW_LID_##ID);               \
+      if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) qs = AW_Q_SHADOW;                        \
+    }                                                                                    \
+    AW_APPEND(qs, slot);                                                                 \
+    AW_APPEND(q, slot);                                                                  \
   }
+AW_LOBE_LIST(AW_SHADE_KERNEL)
+#undef AW_SHADE_KERNEL
 
-// Only the lobes this build has (kernels/common/features.h); the host launches only these.
-AW_SHADE_KERNEL(shade_diffuse, AW_LID_DIFFUSE)
-#if AW_FEAT_TRANSLUCENCY
-AW_SHADE_KERNEL(shade_translucency, AW_LID_TRANSLUCENCY)
-#endif
-#if AW_FEAT_REFLECTION
-AW_SHADE_KERNEL(shade_reflection, AW_LID_REFLECTION)
-AW_SHADE_KERNEL(shade_reflection2, AW_LID_REFLECTION2)
-#endif
-#if AW_FEAT_REFRACTION
-AW_SHADE_KERNEL(shade_refraction, AW_LID_REFRACTION)
-#endif
-
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void intersect_shadow(const RenderParams rp, __global float* sf, __global uint* su, __global const uint* queues,
-                      uint count, __global const float4* nodes, __global const float4* tris,
-                      __global const LightGpu* lights, __global const TriangleInfo* tri_info,
-                      __global const MaterialGpu* materials, uint dense) {
-  uint i = get_global_id(0);
-  uint slot;
-  int active;
-  if (dense) {  // SHADOW is not a tag (wg_append): the path's flag says it has a shadow ray
-    slot = i;
-    active = i < rp.pool_size && (su[(uint)AW_SU_flags * rp.pool_size + i] & AW_PATH_HAS_SHADOW) != 0u;
-  } else {
-    slot = i < count ? AW_QUEUE(AW_Q_SHADOW)[i] : 0u;
-    active = i < count;
-  }
-  if (!active) return;
-  AW_PATH_REF(slot);
-  float3 o = ps_shadow_origin(ps), d = ps_shadow_dir(ps);
-  float tmax = PS_F(ps, sh_tmax);
-#if AW_FEAT_CUTOUT
-  // Step through cutout surfaces with closest hits (the traversal accepts t > t_min only, so
-  // each step starts strictly beyond the surface it passed).
-  SceneRef sc;
-  sc.tri_info = tri_info;
-  sc.materials = materials;
-  int occluded = 0;
-  float t0 = 0.0f;
-  for (int k = 0; k < AW_SHADOW_CUTOUT_STEPS; ++k) {
-    TriangleHit h = bvh_intersect(nodes, rp.num_nodes, tris, o, d, t0, tmax, 0);
-    if (h.prim < 0) break;
-    if (!surface_is_cutout(sc, (uint)h.prim) || k == AW_SHADOW_CUTOUT_STEPS - 1) {
-      occluded = 1;
-      break;
-    }
-    t0 = h.t;
-  }
-#else
-  int occluded = bvh_intersect(nodes, rp.num_nodes, tris, o, d, 0.0f, tmax, 1).prim >= 0;
-#endif
-  if (!occluded) {
-    float t = tmax;
-    occluded = lights_intersect(lights, rp.num_lights, o, d, 0.0f, &t, 0, (int)PS_U(ps, sh_light)) >= 0;
-  }
-  shade_shadow(ps, occluded);
+AW_STAGE_KERNEL(kernel_intersect_shadow) {
+  uint slot = 0u;
+  if (!AW_STAGE_SLOT(AW_Q_SHADOW, slot)) return;
+  intersect_shadow(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
 }
 
 // A split path (integrator/split.h) goes back to its first-hit lobe queue until its last
 // split ends; only then does the job's value (the mean of the splits) reach `samples`.
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __global uint* queues,
-                __global uint* counters, uint count, __global float* samples, __global uint* stats,
-                __global float* snap_f, __global uint* snap_u, __global uint* tags) {
-  __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT];
-  uint i = get_global_id(0);
+AW_STAGE_KERNEL(kernel_accumulate) {
+  AW_APPEND_LOCALS;
   uint slot = 0u;
   uint q = AW_Q_COUNT;
-  if (i < count) {
-    slot = AW_QUEUE(AW_Q_DONE)[i];
-    AW_PATH_REF(slot);
-    ps.snap_f = snap_f;
-    ps.snap_u = snap_u;
-    int bad;
-    float3 l = path_result(ps, &rp, &bad);
-    if (bad) atomic_inc(&stats[AW_STAT_BAD_SAMPLES]);
-    if (PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) atomic_inc(&stats[AW_STAT_MISSING_FEATURE]);
-    q = AW_Q_FREE;
-#if AW_FEAT_SPLIT
-    if ((PS_U(ps, flags) & AW_PATH_SPLIT) && split_next(ps, &rp, l, &l)) q = AW_Q_LOBE + PS_U(ps, lobe);
-#endif
+  if (AW_STAGE_SLOT(AW_Q_DONE, slot)) {
+    PathRef ps = AW_STAGE_PATH(slot);
+    float3 l;
+    uint events;
+    q = (uint)accumulate_path(ps, &rp, &l, &events);
+    if (events & AW_ACC_BAD) atomic_inc(&stats[AW_STAT_BAD_SAMPLES]);
+    if (events & AW_ACC_MISSING) atomic_inc(&stats[AW_STAT_MISSING_FEATURE]);
     if (q == AW_Q_FREE) {
       uint job = PS_U(ps, job);
       samples[job * 3u + 0u] = l.x;
@@ -262,15 +192,13 @@ void accumulate(const RenderParams rp, __global float* sf, __global uint* su, __
       samples[job * 3u + 2u] = l.z;
     }
   }
-  wg_append(counters, queues, tags, rp.pool_size, q, slot, l_n, l_base);
+  AW_APPEND(q, slot);
 }
 
 // Adds a finished batch to the film, one work-item per pixel, samples in increasing sample
 // order: the same summation order as the scalar path, so the two films match bit for bit
 // when the sample values do, whatever the pool size or batch split.
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
-void film_accumulate(const RenderParams rp, __global const float* samples, __global float* film,
-                     __global uint* film_count) {
+AW_STAGE_KERNEL(kernel_film_accumulate) {
   uint p = get_global_id(0);
   uint npix = rp.width * rp.height;
   if (p >= npix) return;

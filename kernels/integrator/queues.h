@@ -5,23 +5,32 @@
 //   FREE --regenerate--> RAY --intersect_closest--> (same RAY queue)
 //   RAY --classify_hit--> one lobe queue (LOBE + AW_LID_*) | PASS (cutout) | DONE
 //   PASS --pass_through--> RAY
-//   LOBE + i --shade_surface<i>--> RAY | DONE   (+ SHADOW)
+//   LOBE + lid --shade_<lobe>--> RAY | DONE   (+ SHADOW)
 //   SHADOW --intersect_shadow--> (adds radiance)
 //   DONE --accumulate--> FREE | LOBE + lid (the next split of a first-hit lobe, split.h)
+//
+// The wavefront (kernels.cl, host/render/wavefront.cpp) and the megakernel (megakernel.h)
+// follow the same rule: the stage functions return the next queue.
 #ifndef AW_INTEGRATOR_QUEUES_H
 #define AW_INTEGRATOR_QUEUES_H
 
-#define AW_Q_RAY 0
-#define AW_Q_SHADOW 1
-#define AW_Q_DONE 2
-#define AW_Q_FREE 3
-#define AW_Q_PASS 4  // cutout: the ray continues through the surface (pass_through -> RAY)
-#define AW_Q_LOBE 5  // + AW_LID_*: diffuse, translucency, reflection, reflection2, refraction
-#define AW_Q_COUNT 10
+#include "material/lobe_list.h"
+
+enum {
+  AW_Q_RAY,
+  AW_Q_SHADOW,
+  AW_Q_DONE,
+  AW_Q_FREE,
+  AW_Q_PASS,  // cutout: the ray continues through the surface (pass_through -> RAY)
+  AW_Q_LOBE,  // + AW_LID_*: one queue per lobe of the lobe list (material/lobe_list.h)
+  AW_Q_COUNT = AW_Q_LOBE + AW_LID_COUNT
+};
 
 // Slots of the stats counters buffer (integers only: nothing float is accumulated atomically).
-#define AW_STAT_BAD_SAMPLES 0
-#define AW_STAT_MISSING_FEATURE 1  // paths that met a feature compiled out of this build
-#define AW_STAT_COUNT 4
+enum {
+  AW_STAT_BAD_SAMPLES,
+  AW_STAT_MISSING_FEATURE,  // paths that met a feature compiled out of this build
+  AW_STAT_COUNT
+};
 
 #endif

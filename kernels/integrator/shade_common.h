@@ -43,7 +43,7 @@ AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, ui
 // (Arvo & Kirk 1990, "Particle Transport and Image Synthesis", Sec. 3.3): from rr_depth on,
 // survival probability min(0.95, max throughput); below `cutoff` (render.cutoff, or a
 // lobe's cut-off threshold) the survival is throughput / cutoff, so weak paths stop early
-// without bias (MATERIAL.md §5: the realisation of the cut-off thresholds).
+// without bias (docs/material.md §5: the realisation of the cut-off thresholds).
 AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng, LobeSample s, float cutoff) {
   uint bounce = PS_U(ps, bounce);
   // No depth test here: the ray is traced even from the last allowed vertex, because light

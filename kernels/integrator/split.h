@@ -1,4 +1,4 @@
-// Per-lobe `samples`: splitting at the first hit (MATERIAL.md §6). A camera sample whose first
+// Per-lobe `samples`: splitting at the first hit (docs/material.md §6). A camera sample whose first
 // scattering vertex picks lobe L traces n = max(1, round(samples_L / spp)) rays from that
 // vertex, each weighted 1/n; deeper bounces trace one.
 //
@@ -22,10 +22,11 @@
 
 #include "common/features.h"
 #include "integrator/path_state.h"
+#include "material/lobes.h"
 #include "types/material.h"
 #include "types/scene.h"
 
-#define AW_SPLIT_MAX 1024u  // bound on n (MATERIAL.md gives none; a pixel's splits stay < 2^16)
+#define AW_SPLIT_MAX 1024u  // bound on n (docs/material.md §6 sets none; a pixel's splits stay < 2^16)
 #define AW_SNAP_F_COUNT (AW_SF_COUNT + 3)
 #define AW_SNAP_U_COUNT (AW_SU_COUNT + 1)
 #define AW_SNAP_F(ps, i) ((ps).snap_f[(uint)(i) * (ps).pool + (ps).slot])
@@ -39,12 +40,9 @@ AW_FN uint split_count(uint samples, uint spp) {
   return n < 1u ? 1u : (n > AW_SPLIT_MAX ? AW_SPLIT_MAX : n);
 }
 
-// The split count of lobe `lid` of a material (diffuse and translucency have no samples).
+// The split count of lobe `lid` of a material (lobes without `samples` report 0: one ray).
 AW_FN uint lobe_split_count(const AW_GLOBAL MaterialGpu* m, uint lid, uint spp) {
-  if (lid == AW_LID_REFLECTION) return split_count(m->refl[0].samples, spp);
-  if (lid == AW_LID_REFLECTION2) return split_count(m->refl[1].samples, spp);
-  if (lid == AW_LID_REFRACTION) return split_count(m->refr_samples, spp);
-  return 1u;
+  return split_count(lobe_samples(m, lid), spp);
 }
 
 // Starts splitting at the first scattering vertex, before the lobe stage touches the state.

@@ -12,10 +12,10 @@
 // which integrates to 1 over the hemisphere, and rho_s = p_h F / (4 (h.k) max(n.k1, n.k2)).
 // The max() makes the BRDF symmetric in k1, k2 (reciprocal) and bounds the albedo by the
 // Fresnel factor: the sampling weight rho_s cos(theta_i) / pdf is F cos_i / max(cos_i, cos_o)
-// <= F. Fresnel: FresnelParams at the half-vector angle h.k (MATERIAL.md §3: microfacet
-// angle), in place of the paper's Schlick approximation.
+// <= F. Fresnel: FresnelParams at the half-vector angle h.k (docs/material.md §3.3, §3.4:
+// microfacet angle), in place of the paper's Schlick approximation.
 //
-// Exponents. From the roughness alpha of MATERIAL.md §3: n = 2 / alpha^2 - 2 (so alpha = 1
+// Exponents. From the roughness alpha of docs/material.md §3.3: n = 2 / alpha^2 - 2 (so alpha = 1
 // gives n = 0, a cosine-power lobe of the half vector with exponent 0), clamped to
 // [0, AW_AS_MAX_EXPONENT]. Anisotropy acts on alpha first (anisotropic_alphas), so nu belongs
 // to the u (x) axis, nv to v (y): a larger nu makes the lobe NARROWER along u.
@@ -33,7 +33,7 @@
 // alpha = sqrt(2 / (n + 2)), so anisotropy and the mirror threshold work as for every brdf.
 //
 // Delta. Exponents at or beyond AW_AS_MAX_EXPONENT (= the exponent of alpha =
-// AW_MF_MIRROR_ALPHA) in BOTH axes make the lobe a perfect mirror (as_is_delta); eval and pdf
+// AW_MF_MIRROR_ALPHA) in BOTH axes make the lobe a perfect mirror (ashikhmin_is_delta); eval and pdf
 // are 0 then and the reflection lobe samples the mirror direction. A single axis beyond it
 // (strong anisotropy) is clamped to it.
 #ifndef AW_LOBES_ASHIKHMIN_SHIRLEY_H
@@ -54,24 +54,24 @@ typedef struct {
   FresnelParams fresnel;
 } AshikhminShirleyParams;
 
-// n = 2 / alpha^2 - 2 (MATERIAL.md §3), clamped to [0, AW_AS_MAX_EXPONENT].
-AW_FN float as_exponent_from_alpha(float alpha) {
+// n = 2 / alpha^2 - 2 (docs/material.md §3.3), clamped to [0, AW_AS_MAX_EXPONENT].
+AW_FN float ashikhmin_exponent_from_alpha(float alpha) {
   float a = fmax(alpha, AW_MF_MIN_ALPHA);
   return clamp(2.0f / (a * a) - 2.0f, 0.0f, AW_AS_MAX_EXPONENT);
 }
 
 // The legacy glossiness mapping (see the top of this file), returned as the equivalent alpha
 // sqrt(2 / (n + 2)) with n = 2^(21 g) - 1, i.e. alpha = sqrt(2 / (2^(21 g) + 1)).
-AW_FN float as_legacy_alpha(float glossiness) {
+AW_FN float ashikhmin_legacy_alpha(float glossiness) {
   float g = clamp(glossiness, 0.0f, 1.0f);
   float n1 = exp(21.0f * 0.69314718f * g);  // n + 1 = 2^(21 g)
   return sqrt(2.0f / (n1 + 1.0f));
 }
 
 // Exponents for roughness alpha and anisotropy amount; a mirror (alpha < AW_MF_MIRROR_ALPHA)
-// gets AW_AS_MAX_EXPONENT in both axes, so as_is_delta() holds exactly when alpha is below
+// gets AW_AS_MAX_EXPONENT in both axes, so ashikhmin_is_delta() holds exactly when alpha is below
 // the threshold, as for GGX and Beckmann.
-AW_FN void as_exponents(float alpha, float aniso_amount, float* nu, float* nv) {
+AW_FN void ashikhmin_exponents(float alpha, float aniso_amount, float* nu, float* nv) {
   if (alpha < AW_MF_MIRROR_ALPHA) {
     *nu = AW_AS_MAX_EXPONENT;
     *nv = AW_AS_MAX_EXPONENT;
@@ -79,22 +79,22 @@ AW_FN void as_exponents(float alpha, float aniso_amount, float* nu, float* nv) {
   }
   float au, av;
   anisotropic_alphas(alpha, aniso_amount, &au, &av);
-  *nu = as_exponent_from_alpha(au);
-  *nv = as_exponent_from_alpha(av);
+  *nu = ashikhmin_exponent_from_alpha(au);
+  *nv = ashikhmin_exponent_from_alpha(av);
 }
 
-AW_FN int as_is_delta(float nu, float nv) { return fmin(nu, nv) >= AW_AS_MAX_EXPONENT; }
+AW_FN int ashikhmin_is_delta(float nu, float nv) { return fmin(nu, nv) >= AW_AS_MAX_EXPONENT; }
 
 // log(1 - s) / s for s in [0, 1): the series -(1 + s/2 + s^2/3 + s^3/4 + s^4/5) below 0.01
 // (truncation < 2e-11), where 1 - s in float would lose the digits that matter for exponents
 // up to 2e6.
-AW_FN float as_log1m_over(float s) {
+AW_FN float ashikhmin_log1m_over(float s) {
   if (s < 0.01f) return -(1.0f + s * (0.5f + s * (1.0f / 3.0f + s * (0.25f + s * 0.2f))));
   return log(1.0f - s) / s;
 }
 
 // exp(x) - 1 without cancellation for small |x| (series below 1e-3, error < x^4 / 24).
-AW_FN float as_expm1(float x) {
+AW_FN float ashikhmin_expm1(float x) {
   if (fabs(x) < 1e-3f) return x * (1.0f + x * (0.5f + x * (1.0f / 6.0f)));
   return exp(x) - 1.0f;
 }
@@ -102,36 +102,25 @@ AW_FN float as_expm1(float x) {
 // p_h(h) = sqrt((nu+1)(nv+1)) / (2 pi) (n.h)^((nu hx^2 + nv hy^2) / (hx^2 + hy^2))  (Sec. 3).
 // The power is evaluated as exp(0.5 (nu hx^2 + nv hy^2) log(1 - s) / s), s = hx^2 + hy^2
 // = 1 - hz^2, which is exact to float precision even when hz rounds to 1 and n is 2e6.
-AW_FN float as_half_vector_pdf(float nu, float nv, float3 h) {
+AW_FN float ashikhmin_half_vector_pdf(float nu, float nv, float3 h) {
   if (!(h.z > 0.0f)) return 0.0f;
   float x2 = h.x * h.x;
   float y2 = h.y * h.y;
   float s = x2 + y2;
   if (!(s < 1.0f)) return 0.0f;
   float q = nu * x2 + nv * y2;
-  float power = q > 0.0f ? exp(0.5f * q * as_log1m_over(s)) : 1.0f;
+  float power = q > 0.0f ? exp(0.5f * q * ashikhmin_log1m_over(s)) : 1.0f;
   return sqrt((nu + 1.0f) * (nv + 1.0f)) * (0.5f / M_PI_F) * power;
-}
-
-// Half vector of a reflection pair; 0 when it does not exist (both directions must be above
-// the surface). Also the reflection lobe's (reflection.h) for Beckmann / GGX.
-AW_FN int as_half_vector(float3 wo, float3 wi, float3* h) {
-  if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return 0;
-  float3 v = wo + wi;
-  float len = length(v);
-  if (!(len > 0.0f)) return 0;
-  *h = v / len;
-  return 1;
 }
 
 // f * cos(theta_i) for a glossy (non-delta) lobe; 0 below the surface or for a delta lobe.
 AW_FN float3 lobe_ashikhmin_shirley_eval(AshikhminShirleyParams p, float3 wo, float3 wi) {
   float3 zero = make_float3(0.0f, 0.0f, 0.0f);
   float3 h;
-  if (as_is_delta(p.nu, p.nv) || !as_half_vector(wo, wi, &h)) return zero;
+  if (ashikhmin_is_delta(p.nu, p.nv) || !reflection_half_vector(wo, wi, &h)) return zero;
   float oh = dot(wo, h);
   if (!(oh > 0.0f)) return zero;
-  float ph = as_half_vector_pdf(p.nu, p.nv, h);
+  float ph = ashikhmin_half_vector_pdf(p.nu, p.nv, h);
   float F = fresnel_eval(p.fresnel, oh);
   float f = ph * F / (4.0f * oh * fmax(wo.z, wi.z));  // = rho_s (Eq. 4)
   float v = f * wi.z;
@@ -144,10 +133,10 @@ AW_FN float3 lobe_ashikhmin_shirley_eval(AshikhminShirleyParams p, float3 wo, fl
 // vectors reflect wo below the horizon (those samples fail).
 AW_FN float lobe_ashikhmin_shirley_pdf(AshikhminShirleyParams p, float3 wo, float3 wi) {
   float3 h;
-  if (as_is_delta(p.nu, p.nv) || !as_half_vector(wo, wi, &h)) return 0.0f;
+  if (ashikhmin_is_delta(p.nu, p.nv) || !reflection_half_vector(wo, wi, &h)) return 0.0f;
   float oh = dot(wo, h);
   if (!(oh > 0.0f)) return 0.0f;
-  float pdf = as_half_vector_pdf(p.nu, p.nv, h) / (4.0f * oh);
+  float pdf = ashikhmin_half_vector_pdf(p.nu, p.nv, h) / (4.0f * oh);
   return (pdf > 0.0f && isfinite(pdf)) ? pdf : 0.0f;
 }
 
@@ -161,7 +150,7 @@ AW_FN float lobe_ashikhmin_shirley_pdf(AshikhminShirleyParams p, float3 wo, floa
 // distribution), and sin^2(theta_h) = -expm1(2 log(u2) / (e + 1)) keeps sin(theta_h) accurate
 // for the 1e6-scale exponents where cos(theta_h) rounds to 1. The sample fails when wo.h <= 0
 // or the reflected direction is not above the surface.
-AW_FN float3 as_sample_half_vector(float nu, float nv, float2 u) {
+AW_FN float3 ashikhmin_sample_half_vector(float nu, float nv, float2 u) {
   float q = floor(4.0f * u.x);
   q = clamp(q, 0.0f, 3.0f);
   float t = 4.0f * u.x - q;  // u1' in [0, 1)
@@ -176,14 +165,14 @@ AW_FN float3 as_sample_half_vector(float nu, float nv, float2 u) {
   float e = nu * cp * cp + nv * sp * sp;
   float lt = log(u.y) / (e + 1.0f);  // log cos(theta_h); -inf at u2 = 0 (h on the horizon)
   float cos_t = exp(lt);
-  float sin_t = safe_sqrt(-as_expm1(2.0f * lt));
+  float sin_t = safe_sqrt(-ashikhmin_expm1(2.0f * lt));
   return make_float3(sin_t * cp, sin_t * sp, cos_t);
 }
 
 AW_FN LobeSample lobe_ashikhmin_shirley_sample(AshikhminShirleyParams p, float3 wo, float2 u) {
   LobeSample s = lobe_no_sample();
-  if (!(wo.z > 0.0f) || as_is_delta(p.nu, p.nv)) return s;
-  float3 hs = as_sample_half_vector(p.nu, p.nv, u);
+  if (!(wo.z > 0.0f) || ashikhmin_is_delta(p.nu, p.nv)) return s;
+  float3 hs = ashikhmin_sample_half_vector(p.nu, p.nv, u);
   float oh_s = dot(wo, hs);
   if (!(oh_s > 0.0f)) return s;
   float3 wi = normalize(2.0f * oh_s * hs - wo);
@@ -191,9 +180,9 @@ AW_FN LobeSample lobe_ashikhmin_shirley_sample(AshikhminShirleyParams p, float3 
   // pdf and weight from the half vector of (wo, wi), as eval and pdf compute it, so that
   // weight == eval / pdf and pdf == lobe_ashikhmin_shirley_pdf(wo, wi) to rounding.
   float3 h;
-  if (!as_half_vector(wo, wi, &h)) return s;
+  if (!reflection_half_vector(wo, wi, &h)) return s;
   float oh = dot(wo, h);
-  float pdf = oh > 0.0f ? as_half_vector_pdf(p.nu, p.nv, h) / (4.0f * oh) : 0.0f;
+  float pdf = oh > 0.0f ? ashikhmin_half_vector_pdf(p.nu, p.nv, h) / (4.0f * oh) : 0.0f;
   if (!(pdf > 0.0f) || !isfinite(pdf)) return s;
   // weight = rho_s wi.z / pdf = F wi.z / max(wo.z, wi.z)
   // (a zero Fresnel factor gives a valid sample of weight 0, not a failure: the pdf is not 0)

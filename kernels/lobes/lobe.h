@@ -33,6 +33,17 @@ typedef struct {
 
 AW_FN float cos_theta(float3 w) { return w.z; }
 
+// Half vector of a reflection pair; 0 when it does not exist (both directions must be above
+// the surface). Every reflection BRDF's (reflection.h: Beckmann, GGX, Ashikhmin-Shirley).
+AW_FN int reflection_half_vector(float3 wo, float3 wi, float3* h) {
+  if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return 0;
+  float3 v = wo + wi;
+  float len = length(v);
+  if (!(len > 0.0f)) return 0;
+  *h = v / len;
+  return 1;
+}
+
 // The failed sample of the contract: flags 0, weight 0, pdf 0 (wi is +z, a placeholder that
 // callers must not use).
 AW_FN LobeSample lobe_no_sample(void) {

@@ -1,4 +1,4 @@
-// The reflection lobe of the Architectural material (MATERIAL.md §3 "Reflection"), used by
+// The reflection lobe of the Architectural material (docs/material.md §3.3 "Reflection"), used by
 // both `reflection` and `reflection2`: a microfacet BRDF with the chosen distribution
 // (Beckmann, GGX) or the Ashikhmin–Shirley model (current and legacy glossiness mapping),
 // anisotropic, with Fresnel evaluated at the microfacet angle. Contract: kernels/lobes/lobe.h
@@ -47,8 +47,8 @@ typedef struct {
   FresnelParams fresnel;
 } ReflectionParams;
 
-// Glossiness -> roughness (MATERIAL.md §3: alpha = (1 - g)^2, >= 1e-4; the legacy AS mapping of
-// ashikhmin_shirley.h for AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY), then anisotropy
+// Glossiness -> roughness (docs/material.md §3.3: alpha = (1 - g)^2, >= 1e-4; the legacy AS
+// mapping of ashikhmin_shirley.h for AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY), then anisotropy
 // (anisotropic_alphas: amount < 0 stretches along u, > 0 along v), then for the AS brdfs the
 // exponents n = 2 / alpha^2 - 2. Roughness below AW_MF_MIRROR_ALPHA makes a mirror for every
 // brdf (anisotropy has no effect on a mirror). An unknown brdf id is treated as GGX.
@@ -58,7 +58,7 @@ AW_FN ReflectionParams reflection_params_make(float3 tint, uint brdf, float glos
   p.tint = tint;
   p.brdf = brdf;
   p.fresnel = f;
-  float alpha = (AW_FEAT_BRDF_AS && brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY) ? as_legacy_alpha(glossiness)
+  float alpha = (AW_FEAT_BRDF_AS && brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY) ? ashikhmin_legacy_alpha(glossiness)
                                                                               : glossiness_to_alpha(glossiness);
   p.mf.dist = brdf == AW_BRDF_BECKMANN ? AW_MF_BECKMANN : AW_MF_GGX;
   if (alpha < AW_MF_MIRROR_ALPHA) {
@@ -67,7 +67,7 @@ AW_FN ReflectionParams reflection_params_make(float3 tint, uint brdf, float glos
   } else {
     anisotropic_alphas(alpha, aniso_amount, &p.mf.ax, &p.mf.ay);
   }
-  as_exponents(alpha, aniso_amount, &p.as_nu, &p.as_nv);
+  ashikhmin_exponents(alpha, aniso_amount, &p.as_nu, &p.as_nv);
   return p;
 }
 
@@ -77,7 +77,7 @@ AW_FN int reflection_is_as(ReflectionParams p) {
 }
 
 AW_FN int reflection_is_delta(ReflectionParams p) {
-  if (reflection_is_as(p)) return as_is_delta(p.as_nu, p.as_nv);
+  if (reflection_is_as(p)) return ashikhmin_is_delta(p.as_nu, p.as_nv);
   return fmax(p.mf.ax, p.mf.ay) < AW_MF_MIRROR_ALPHA;
 }
 
@@ -103,7 +103,7 @@ AW_FN float reflection_mf_g2_denominator(Microfacet m, float3 wo, float3 wi) {
 
 AW_FN float reflection_mf_eval(ReflectionParams p, float3 wo, float3 wi) {
   float3 h;
-  if (!as_half_vector(wo, wi, &h)) return 0.0f;
+  if (!reflection_half_vector(wo, wi, &h)) return 0.0f;
   float oh = dot(wo, h);
   if (!(oh > 0.0f)) return 0.0f;
   float den = 4.0f * reflection_mf_g2_denominator(p.mf, wo, wi);
@@ -115,7 +115,7 @@ AW_FN float reflection_mf_eval(ReflectionParams p, float3 wo, float3 wi) {
 // pdf = D_wo(h) / (4 wo.h) = D(h) / (4 P(wo))  (mf_pdf_visible with Walter 2007, Eq. 14).
 AW_FN float reflection_mf_pdf(ReflectionParams p, float3 wo, float3 wi) {
   float3 h;
-  if (!as_half_vector(wo, wi, &h)) return 0.0f;
+  if (!reflection_half_vector(wo, wi, &h)) return 0.0f;
   if (!(dot(wo, h) > 0.0f)) return 0.0f;
   float pa = mf_proj_area(p.mf, wo);
   if (!(pa > 0.0f)) return 0.0f;
@@ -153,7 +153,7 @@ AW_FN LobeSample reflection_mf_sample(ReflectionParams p, float3 wo, float2 u) {
 // it, so that the split and the sampled lobe see the same reflectance (architectural.h).
 AW_FN float3 reflection_sample_normal(ReflectionParams p, float3 wo, float2 u) {
   if (reflection_is_delta(p)) return make_float3(0.0f, 0.0f, 1.0f);
-  if (reflection_is_as(p)) return as_sample_half_vector(p.as_nu, p.as_nv, u);
+  if (reflection_is_as(p)) return ashikhmin_sample_half_vector(p.as_nu, p.as_nv, u);
   return mf_sample_visible(p.mf, wo, u);
 }
 
@@ -183,7 +183,7 @@ AW_FN LobeSample lobe_reflection_sample(ReflectionParams p, float3 wo, float2 u)
   return reflection_mf_sample(p, wo, u);
 }
 
-// An ESTIMATE of the directional albedo, for lobe-selection weights (MATERIAL.md §2):
+// An ESTIMATE of the directional albedo, for lobe-selection weights (docs/material.md §2):
 // tint F(cos_o), the Fresnel reflectance at the VIEW angle times the tint. Exact for the mirror;
 // for rough lobes it ignores the energy lost to masking and to reflections below the horizon
 // and takes F at the view angle rather than at the microfacet angles, so it is typically an

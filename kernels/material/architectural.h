@@ -1,5 +1,5 @@
 // The Architectural material at a shading point: how much of the incoming energy each lobe
-// gets (MATERIAL.md §2: reflection first, then refraction, then diffuse) and which lobe a
+// gets (docs/material.md §2: reflection first, then refraction, then diffuse) and which lobe a
 // path takes. The lobes themselves live in kernels/lobes/, one file each.
 #ifndef AW_MATERIAL_ARCHITECTURAL_H
 #define AW_MATERIAL_ARCHITECTURAL_H
@@ -10,6 +10,7 @@
 #include "lobes/fresnel.h"
 #include "lobes/reflection.h"
 #include "lobes/thin_walled.h"
+#include "material/lobe_list.h"
 #include "types/material.h"
 
 // Per-lobe factors at one shading point. `scale` multiplies the lobe's own value (its eval
@@ -20,6 +21,17 @@ typedef struct {
   float prob[AW_LID_COUNT];
   float albedo[AW_LID_COUNT];  // luminance of each lobe's estimated contribution
 } LobeWeights;
+
+// The diffuse lobe's albedo: colour times weight (docs/material.md §1).
+AW_FN float3 material_diffuse_color(const AW_GLOBAL MaterialGpu* m) { return load_f3(m->diffuse_color) * m->diffuse_weight; }
+
+AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
+
+// Whether reflection lobe i carries energy at all (weight and colour): a lobe without it is
+// never chosen, so it needs no code and never splits.
+AW_FN int material_reflection_used(const AW_GLOBAL MaterialGpu* m, uint i) {
+  return m->refl[i].weight > 0.0f && positive3(m->refl[i].color);
+}
 
 // refraction.thin_walled, in builds that have thin walls (common/features.h: a material that
 // sets it without reflecting or transmitting anything is shaded the same either way).
@@ -33,7 +45,7 @@ AW_FN float material_eta(float ior, int entering, int thin) {
   return (entering || thin) ? ior : 1.0f / ior;
 }
 
-// A reflection lobe's Fresnel. Thin walls reflect from both faces (MATERIAL.md §3 "Thin
+// A reflection lobe's Fresnel. Thin walls reflect from both faces (docs/material.md §3.6 "Thin
 // walled"): a dielectric Fresnel becomes the pane's R' = R + T^2 R / (1 - R^2), in the lobe and
 // in the energy split alike, so a pane's R' + T' = 1. A conductor or the artist curve is a
 // reflectance as given (no light crosses a metal; the curve is the user's).
@@ -48,7 +60,7 @@ AW_FN FresnelParams material_fresnel(const AW_GLOBAL ReflectionGpu* r, int enter
   return f;
 }
 
-// Fresnel reflectance at the view angle (the split of MATERIAL.md §2 read literally).
+// Fresnel reflectance at the view angle (the split of docs/material.md §2 read literally).
 AW_FN float material_view_fresnel(const AW_GLOBAL ReflectionGpu* r, float cos_o, int entering, int thin) {
   return clamp(fresnel_eval(material_fresnel(r, entering, thin), cos_o), 0.0f, 1.0f);
 }
@@ -57,12 +69,12 @@ AW_FN float material_view_fresnel(const AW_GLOBAL ReflectionGpu* r, float cos_o,
 AW_FN ReflectionParams material_reflection_params(const AW_GLOBAL MaterialGpu* m, uint i, int entering) {
   const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
   float3 tint = load_f3(r->color);
-  if (i == 0u && (m->flags & AW_MAT_METAL)) tint = tint * load_f3(m->diffuse_color);
+  if (i == 0u && (m->flags & AW_MAT_METAL)) tint = tint * material_diffuse_color(m);
   int thin = material_is_thin(m);
   return reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, entering, thin));
 }
 
-// Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, MATERIAL.md §3).
+// Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, docs/material.md §3.3).
 AW_FN float3 rotate_tangent(float3 t, float3 n, float rotation) {
   if (rotation == 0.0f) return t;
   float a = 2.0f * M_PI_F * rotation;
@@ -86,37 +98,32 @@ AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float 
   LobeWeights lw;
   int thin = material_is_thin(m);
   int metal = (m->flags & AW_MAT_METAL) != 0u;
-  float3 diffuse = load_f3(m->diffuse_color);
+  float3 diffuse = material_diffuse_color(m);
   float3 zero = make_float3(0.0f, 0.0f, 0.0f);
 
   // Reflection: rho1 = weight * color * F1(theta_o) (x diffuse colour when metal).
   float3 rho1 = zero, rho2 = zero;
   float lum1 = 0.0f, lum2 = 0.0f, keep2 = 1.0f;
-#if AW_FEAT_REFLECTION
-  float3 tint1 = load_f3(m->refl[0].color);
-  if (metal) tint1 = tint1 * diffuse;
-  rho1 = m->refl[0].weight * f1 * tint1;
-  lum1 = fmin(1.0f, luminance(rho1));
-  // Reflection 2 gets what reflection 1 leaves.
-  keep2 = 1.0f - lum1;
-  rho2 = m->refl[1].weight * f2 * keep2 * load_f3(m->refl[1].color);
-  lum2 = luminance(rho2);
-#endif
+  if (AW_FEAT_REFLECTION) {
+    float3 tint1 = load_f3(m->refl[0].color);
+    if (metal) tint1 = tint1 * diffuse;
+    rho1 = m->refl[0].weight * f1 * tint1;
+    lum1 = fmin(1.0f, luminance(rho1));
+    // Reflection 2 gets what reflection 1 leaves.
+    keep2 = 1.0f - lum1;
+    rho2 = m->refl[1].weight * f2 * keep2 * load_f3(m->refl[1].color);
+    lum2 = luminance(rho2);
+  }
   // Whatever reflection leaves is transmitted (refraction, translucency) or diffuse.
   float rest = 1.0f - fmin(1.0f, lum1 + lum2);
   float w_t = m->refr_weight * rest;
-#if AW_FEAT_TRANSLUCENCY
-  float w_transl = (m->flags & AW_MAT_TRANSLUCENCY) ? w_t * m->transl_weight : 0.0f;
-#else
-  float w_transl = 0.0f;
-#endif
+  float w_transl = (AW_FEAT_TRANSLUCENCY && (m->flags & AW_MAT_TRANSLUCENCY)) ? w_t * m->transl_weight : 0.0f;
   float w_refr = w_t - w_transl;
   float w_d = rest;
-#if AW_FEAT_REFRACTION || AW_FEAT_TRANSLUCENCY
-  w_d *= (1.0f - m->refr_weight * luminance(load_f3(m->refr_color)));
-#else
-  w_refr = 0.0f;
-#endif
+  if (AW_FEAT_REFRACTION || AW_FEAT_TRANSLUCENCY)
+    w_d *= (1.0f - m->refr_weight * luminance(load_f3(m->refr_color)));
+  else
+    w_refr = 0.0f;
   if (metal) w_d *= (1.0f - lum1);
 
   // Skip weak internal reflections: inside a refractive object, partial reflections are not
@@ -151,7 +158,7 @@ AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float 
   return lw;
 }
 
-// MATERIAL.md §2 at view cosine cos_o, with the reflectances taken at the view angle;
+// docs/material.md §2 at view cosine cos_o, with the reflectances taken at the view angle;
 // `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
 // refractive object is subject to skip_weak_internal_reflections).
 AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
@@ -164,7 +171,7 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
 // The split the renderer uses: each reflection lobe's reflectance is its Fresnel at the
 // microfacet normal that the lobe's own sample will draw from the same random numbers u
 // (wo in the reflection frame, material_reflection_frame). Why: the lobe carries Fresnel at
-// the microfacet (MATERIAL.md §3), so it reflects E[F(wo.h) g(h)] with g <= 1 (G2/G1 for
+// the microfacet (docs/material.md §3.4), so it reflects E[F(wo.h) g(h)] with g <= 1 (G2/G1 for
 // Beckmann/GGX, cos_i / max(cos_i, cos_o) for Ashikhmin-Shirley), while a split at the view
 // angle sets aside F(theta_o) < E[F(wo.h)] for rough lobes (F is convex): a rough Beckmann
 // reflection over a smooth refraction returned up to 0.6% more energy than it received.
@@ -174,19 +181,16 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
 // sampling alike), so E over h of the indicator / p(h) is 1 for any h-dependent choice.
 AW_FN LobeWeights material_lobe_weights_sampled(const AW_GLOBAL MaterialGpu* m, float3 wo, float2 u, int entering) {
   float f[2] = {0.0f, 0.0f};
-#if AW_FEAT_REFLECTION
-  for (uint i = 0u; i < 2u; ++i) {
+  for (uint i = 0u; AW_FEAT_REFLECTION && i < 2u; ++i) {
     if (!(m->refl[i].weight > 0.0f)) continue;
     ReflectionParams p = material_reflection_params(m, i, entering);
     float3 h = reflection_sample_normal(p, wo, u);
     f[i] = clamp(fresnel_eval(p.fresnel, clamp(dot(wo, h), 0.0f, 1.0f)), 0.0f, 1.0f);
   }
-#endif
   return material_lobe_weights_f(m, f[0], f[1], entering);
 }
 
 
-AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
 
 // The features material m uses, as AW_FEATBIT_* bits. The one definition of "uses": the host
 // ORs it over the scene's materials to choose what to compile (host/render/features.cpp) and
@@ -197,7 +201,7 @@ AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
   int refl = 0;
   for (uint i = 0u; i < 2u; ++i) {
     const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
-    if (!(r->weight > 0.0f && positive3(r->color))) continue;  // a lobe without energy
+    if (!material_reflection_used(m, i)) continue;
     refl = 1;
     if (r->brdf == AW_BRDF_BECKMANN) f |= AW_FEATBIT_BRDF_BECKMANN;
     if (r->brdf == AW_BRDF_ASHIKHMIN_SHIRLEY || r->brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY) f |= AW_FEATBIT_BRDF_AS;
@@ -221,14 +225,6 @@ AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
 
 AW_FN int material_uses_missing_feature(const AW_GLOBAL MaterialGpu* m) {
   return (material_features(m) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
-}
-
-// Whether this build contains the shading kernel of lobe `lid` (kernels/common/features.h).
-AW_FN int lobe_compiled(uint lid) {
-  if (lid == AW_LID_TRANSLUCENCY) return AW_FEAT_TRANSLUCENCY;
-  if (lid == AW_LID_REFLECTION || lid == AW_LID_REFLECTION2) return AW_FEAT_REFLECTION;
-  if (lid == AW_LID_REFRACTION) return AW_FEAT_REFRACTION;
-  return 1;
 }
 
 // Picks a lobe with probability prob[]; returns AW_LID_COUNT when no lobe has weight.

@@ -33,4 +33,5 @@ AW_LAYOUT_ENTRY(29, MaterialGpu, fog_distance)
 AW_LAYOUT_ENTRY(30, MaterialGpu, aniso_amount)
 AW_LAYOUT_ENTRY(31, MaterialGpu, refr_depth)
 AW_LAYOUT_ENTRY(32, VertexData, t)
-#define AW_LAYOUT_COUNT 33
+AW_LAYOUT_ENTRY(33, MaterialGpu, diffuse_weight)
+#define AW_LAYOUT_COUNT 34

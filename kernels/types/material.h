@@ -1,15 +1,9 @@
 // The Architectural material as the kernels read it, packed by host/render/scene_pack.cpp
-// from host/scene/material_desc.h (MATERIAL.md). Plain 4-byte fields only (tests/types).
+// from host/scene/material_desc.h (docs/material.md). Plain 4-byte fields only (tests/types).
 #ifndef AW_TYPES_MATERIAL_H
 #define AW_TYPES_MATERIAL_H
 
-// Lobe ids: one queue and one shading kernel each (kernels/integrator/queues.h).
-#define AW_LID_DIFFUSE 0u
-#define AW_LID_TRANSLUCENCY 1u
-#define AW_LID_REFLECTION 2u
-#define AW_LID_REFLECTION2 3u
-#define AW_LID_REFRACTION 4u
-#define AW_LID_COUNT 5u
+// Lobe ids (AW_LID_*) are generated from the lobe list: kernels/material/lobe_list.h.
 
 // Material flags.
 #define AW_MAT_METAL 1u
@@ -42,7 +36,7 @@ typedef struct {
 } ReflectionGpu;
 
 typedef struct {
-  float diffuse_color[3];  // colour × weight
+  float diffuse_color[3];  // diffuse.color; its weight is diffuse_weight (every lobe keeps its own)
   float diffuse_roughness;
   float transl_color[3];
   float transl_weight;  // 0 unless translucency is enabled
@@ -64,7 +58,7 @@ typedef struct {
   uint flags;  // AW_MAT_*
   uint refl_depth;  // per-material trace depths (the global ones unless overridden)
   uint refr_depth;
-  uint pad;
+  float diffuse_weight;
 } MaterialGpu;
 
 #endif

@@ -477,13 +477,13 @@ TEST(Reflection, FiniteAtExtremes) {
 // ---- Ashikhmin–Shirley specifics ------------------------------------------------------------------
 
 TEST(AshikhminShirley, ExponentsAndLegacyMapping) {
-  EXPECT_FLOAT_EQ(as_exponent_from_alpha(1.0f), 0.0f);
-  EXPECT_FLOAT_EQ(as_exponent_from_alpha(0.5f), 6.0f);  // 2 / 0.25 - 2
-  EXPECT_FLOAT_EQ(as_exponent_from_alpha(3.0f), 0.0f);  // clamped, never negative
-  EXPECT_FLOAT_EQ(as_exponent_from_alpha(1e-4f), AW_AS_MAX_EXPONENT);
+  EXPECT_FLOAT_EQ(ashikhmin_exponent_from_alpha(1.0f), 0.0f);
+  EXPECT_FLOAT_EQ(ashikhmin_exponent_from_alpha(0.5f), 6.0f);  // 2 / 0.25 - 2
+  EXPECT_FLOAT_EQ(ashikhmin_exponent_from_alpha(3.0f), 0.0f);  // clamped, never negative
+  EXPECT_FLOAT_EQ(ashikhmin_exponent_from_alpha(1e-4f), AW_AS_MAX_EXPONENT);
   // Legacy: n = 2^(21 g) - 1 through the equivalent alpha.
   for (float g : {0.0f, 0.25f, 0.5f, 0.75f, 0.9f}) {
-    float n = as_exponent_from_alpha(as_legacy_alpha(g));
+    float n = ashikhmin_exponent_from_alpha(ashikhmin_legacy_alpha(g));
     double expect = std::pow(2.0, 21.0 * g) - 1.0;
     EXPECT_NEAR(n, expect, 1e-4 * expect + 1e-4) << g;
   }
@@ -506,7 +506,7 @@ TEST(AshikhminShirley, ExponentsAndLegacyMapping) {
 TEST(AshikhminShirley, HalfVectorDensityIsNormalised) {
   const float ns[][2] = {{0.0f, 0.0f}, {1.0f, 10.0f}, {100.0f, 100.0f}, {1000.0f, 10.0f}, {1e5f, 1e4f}};
   for (const auto& n : ns) {
-    double i = integrate_hemisphere([&](float3 h) { return double(as_half_vector_pdf(n[0], n[1], h)); }, 6000, 512);
+    double i = integrate_hemisphere([&](float3 h) { return double(ashikhmin_half_vector_pdf(n[0], n[1], h)); }, 6000, 512);
     EXPECT_NEAR(i, 1.0, 3e-3) << "nu " << n[0] << " nv " << n[1];
   }
 }
@@ -550,7 +550,7 @@ TEST(Reflection, HostMatchesDevice) {
 
   // Three kinds of output, compared three ways:
   //  - functions of fixed inputs (eval, pdf, albedo estimate, D, G2, visible pdf, Lambda, the
-  //    roughness and exponents): relative, the DESIGN.md 1e-5 with its 1e-6 floor;
+  //    roughness and exponents): relative, the harness's 1e-5 with its 1e-6 floor (lobe_harness.h);
   //  - sampled directions (sample.wi, mf_sample_visible): components of unit vectors, so an
   //    ABSOLUTE bound. PoCL's and glibc's sin/cos/exp/log/sqrt differ in the last bit, which
   //    moves a direction by ~1e-7; a near-zero component then differs by a large RELATIVE

@@ -1,4 +1,4 @@
-// The whole Architectural material (MATERIAL.md §2) as the renderer uses it: the energy split
+// The whole Architectural material (docs/material.md §2) as the renderer uses it: the energy split
 // of kernels/material/architectural.h, the lobe choice, and each lobe's sample, exactly as
 // shade_surface runs them. White furnace: the expected throughput after one scattering,
 // E[scale/prob * sample weight], is <= 1 for every parameter set, and = 1 for lossless ones.
@@ -32,6 +32,7 @@ MaterialGpu base_material() {
     m.refl[i].perpendicular = 1.0f;
     m.refl[i].curve = 5.0f;
   }
+  m.diffuse_weight = 1.0f;
   m.refr_glossiness = 1.0f;
   m.refr_ior = 1.5f;
   m.highlight_vs_reflection = 1.0f;
@@ -183,7 +184,7 @@ TEST(MaterialFurnace, RoughBeckmannOverSmoothGlassCreatesNoEnergy) {
     }
 }
 
-// MATERIAL.md §2: the order reflection -> refraction -> diffuse; a mirror wins.
+// docs/material.md §2: the order reflection -> refraction -> diffuse; a mirror wins.
 TEST(MaterialWeights, OrderAndMirrorWins) {
   MaterialGpu m = base_material();
   m.refl[0].weight = 1.0f;

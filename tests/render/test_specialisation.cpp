@@ -1,4 +1,4 @@
-// Kernel specialisation (DESIGN.md principle 4): the program built for a scene's features
+// Kernel specialisation (docs/design.md, principle 4): the program built for a scene's features
 // renders the same image as the generic one, and a feature it lacks is never silently ignored.
 #include <gtest/gtest.h>
 
@@ -18,10 +18,10 @@ std::string src(const std::string& rel) { return std::string(ARCHWAVE_SOURCE_DIR
 
 TEST(Specialisation, FeaturesDerivedFromTheScene) {
   aw::Scene cornell = aw::load_scene(src("scenes/cornell.json"));
-  aw::FeatureSet f = aw::derive_features(aw::pack_scene(cornell, nullptr));
+  aw::FeatureSet f = aw::pack_scene(cornell, nullptr).features;
   EXPECT_EQ(f.describe(), "light_point light_quad");  // Lambert only: no material feature
   aw::Scene mats = aw::load_scene(src("scenes/materials.json"));
-  aw::FeatureSet g = aw::derive_features(aw::pack_scene(mats, nullptr));
+  aw::FeatureSet g = aw::pack_scene(mats, nullptr).features;
   for (int id : {aw::FeatureSet::REFLECTION, aw::FeatureSet::REFRACTION, aw::FeatureSet::TRANSLUCENCY,
                  aw::FeatureSet::ROUGH_DIFFUSE, aw::FeatureSet::ANISOTROPY, aw::FeatureSet::FOG,
                  aw::FeatureSet::INCANDESCENCE, aw::FeatureSet::FRESNEL_CONDUCTOR, aw::FeatureSet::FRESNEL_CURVE,
@@ -38,7 +38,7 @@ TEST(Specialisation, FeaturesDerivedFromTheScene) {
 TEST(Specialisation, BrdfFresnelAndThinWallFeaturesFollowTheLobesThatUseThem) {
   auto features = [](std::vector<std::string> defs) {
     aw::Scene s = aw::load_scene(src("scenes/cornell.json"), defs);
-    return aw::derive_features(aw::pack_scene(s, nullptr)).describe();
+    return aw::pack_scene(s, nullptr).features.describe();
   };
   const std::string lights = "light_point light_quad";
   EXPECT_EQ(features({"materials.white.reflection.weight=0.5", "materials.white.reflection.brdf=beckmann"}),
@@ -130,7 +130,7 @@ TEST(Specialisation, MissingFeatureIsNeverSilentlyIgnored) {
     defs.insert(defs.end(), c.defs.begin(), c.defs.end());
     aw::Scene s = aw::load_scene(src("scenes/cornell.json"), defs);
     // The case really uses the feature: the specialised build for the scene has it.
-    aw::FeatureSet need = aw::derive_features(aw::pack_scene(s, nullptr));
+    aw::FeatureSet need = aw::pack_scene(s, nullptr).features;
     bool used = false;
     for (int i = 0; i < aw::FeatureSet::COUNT; ++i) used |= need.on[i] && c.feature == std::string(aw::FeatureSet::name(i));
     EXPECT_TRUE(used) << c.feature << " is not used by its case: " << need.describe();

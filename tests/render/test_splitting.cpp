@@ -1,4 +1,4 @@
-// Per-lobe samples split at the first hit (MATERIAL.md §6, kernels/integrator/split.h):
+// Per-lobe samples split at the first hit (docs/material.md §6, kernels/integrator/split.h):
 // the split count, when the kernels split at all, that splitting is unbiased, and that the
 // wavefront and the scalar path (and the specialised and generic builds) still agree.
 #include <gtest/gtest.h>
@@ -49,7 +49,7 @@ TEST(Splitting, CountIsRoundedSamplesOverSpp) {
 
 TEST(Splitting, KernelsSplitOnlyWhenSomeLobeDoes) {
   auto split_spp = [](const aw::Scene& s) { return aw::pack_scene(s, nullptr).params.split_spp; };
-  auto has = [](const aw::Scene& s) { return aw::derive_features(aw::pack_scene(s, nullptr)).on[aw::FeatureSet::SPLIT]; };
+  auto has = [](const aw::Scene& s) { return aw::pack_scene(s, nullptr).features.on[aw::FeatureSet::SPLIT]; };
   EXPECT_EQ(split_spp(glossy(4)), 4u);  // 64 samples at 4 spp: 16 rays
   EXPECT_TRUE(has(glossy(4)));
   EXPECT_EQ(split_spp(glossy(4, false)), 0u);  // render.lobe_splitting = false

@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Prints one line per (scene, renderer) with the SHA-256 of the rendered EXR, for checking
+# that a refactor changes no image (docs/architecture.md, "Refactoring without changing an
+# image"). Every scene under scenes/ plus the test scenes, small and at few samples so the
+# whole set renders in a few minutes on 2 cores; the wavefront both specialised and generic,
+# and the scalar path. Usage: scripts/image_hashes.sh [ARCHWAVE_BINARY] > hashes.txt, then
+# diff two such files. Lobe splitting is exercised: 4 spp makes most `samples` split.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${1:-build/archwave}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$PWD/build/pocl-cache}
+for scene in scenes/*.json scenes/docs/*.json tests/render/data/*.json; do
+  for mode in spec generic scalar; do
+    case $mode in
+      spec) flags=() ;;
+      generic) flags=(--generic-kernels) ;;
+      scalar) flags=(--scalar) ;;
+    esac
+    f="$out/$(basename "$scene" .json)_$mode.exr"
+    "$bin" "$scene" -q --no-progress --width 40 --height 30 --spp 4 "${flags[@]}" -o "$f" >/dev/null 2>&1 \
+      || { echo "$scene $mode FAILED"; continue; }
+    echo "$scene $mode $(sha256sum < "$f" | cut -c1-16)"
+  done
+done
