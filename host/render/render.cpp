@@ -19,7 +19,7 @@ Image RenderResult::image(const Scene& scene) const {
   img.width = width;
   img.height = height;
   img.rgb.resize(sum.size());
-  // Exposure is applied here so the EXR holds radiance x k (SCENE_FORMAT.md, camera).
+  // Exposure is applied here so the EXR holds radiance x k (docs/scene-format.md, camera.exposure).
   const float k = exposure_scale(scene.camera.exposure);
   for (size_t p = 0; p < count.size(); ++p) {
     float inv = count[p] ? 1.0f / float(count[p]) : 0.0f;
