@@ -5,9 +5,12 @@
 # whole set renders in a few minutes on 2 cores; the wavefront both specialised and generic,
 # and the scalar path. Usage: scripts/image_hashes.sh [ARCHWAVE_BINARY] > hashes.txt, then
 # diff two such files. Lobe splitting is exercised: 4 spp makes most `samples` split.
+# Arguments after the binary are passed to every render (e.g. -D render.sampler=independent).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=${1:-build/archwave}
+shift || true
+extra=("$@")
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 export POCL_CACHE_DIR=${POCL_CACHE_DIR:-$PWD/build/pocl-cache}
@@ -19,7 +22,7 @@ for scene in scenes/*.json scenes/docs/*.json tests/render/data/*.json; do
       scalar) flags=(--scalar) ;;
     esac
     f="$out/$(basename "$scene" .json)_$mode.exr"
-    "$bin" "$scene" -q --no-progress --width 40 --height 30 --spp 4 "${flags[@]}" -o "$f" >/dev/null 2>&1 \
+    "$bin" "$scene" -q --no-progress --width 40 --height 30 --spp 4 "${flags[@]}" "${extra[@]}" -o "$f" >/dev/null 2>&1 \
       || { echo "$scene $mode FAILED"; continue; }
     echo "$scene $mode $(sha256sum < "$f" | cut -c1-16)"
   done

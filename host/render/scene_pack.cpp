@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "host/render/alias_table.h"
 #include "host/scene/tangents.h"
+#include "kernels/common/rng.h"
 #include "kernels/common/sampling.h"
 #include "kernels/material/architectural.h"
 
@@ -41,6 +43,10 @@ LightGpu pack_light(const LightDesc& d, float* power) {
       glm::vec3 c = glm::cross(d.edge_u, d.edge_v);
       l.area = glm::length(c);
       put3(l.n, l.area > 0.0f ? c / l.area : glm::vec3(0, 0, 1));
+      // Orthogonal edges: a rectangle, which light sampling samples by solid angle
+      // (kernels/lights/lights.h); a general parallelogram is sampled by area.
+      if (std::fabs(glm::dot(d.edge_u, d.edge_v)) <= 1e-6f * glm::length(d.edge_u) * glm::length(d.edge_v))
+        l.flags |= AW_LIGHT_RECTANGLE;
       *power = pi * luminance(radiance) * l.area * (d.two_sided ? 2.0f : 1.0f);
       break;
     }
@@ -206,14 +212,13 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   }
   double total = 0.0;
   for (float p : power) total += p;
-  double acc = 0.0;
+  std::vector<double> weights(power.begin(), power.end());
+  AliasTable alias = build_alias_table(weights);  // light_pick's O(1) selection
   for (size_t i = 0; i < ps.lights.size(); ++i) {
-    double pdf = total > 0.0 ? power[i] / total : 0.0;
-    acc += pdf;
-    ps.lights[i].select_pdf = float(pdf);
-    ps.lights[i].select_cdf = float(acc);
+    ps.lights[i].select_pdf = float(total > 0.0 ? power[i] / total : 0.0);
+    ps.lights[i].alias_q = alias.q[i];
+    ps.lights[i].alias = alias.alias[i];
   }
-  if (!ps.lights.empty()) ps.lights.back().select_cdf = 1.0f;
 
   // Camera: orthonormal basis from position, look_at and up.
   const CameraDesc& cam = scene.camera;
@@ -242,6 +247,7 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   rp.cutoff = rs.cutoff;
   rp.clamp = rs.clamp;
   rp.rr_depth = uint32_t(rs.rr_depth);
+  rp.sampler = rs.sampler == RenderSettings::Sampler::Independent ? AW_SAMPLER_INDEPENDENT : AW_SAMPLER_SOBOL;
   put3(rp.env_radiance, scene.environment.color * scene.environment.intensity);
   // Every light is passed, also those that cannot be sampled: they are still hit and still
   // occlude (a zero-radiance light is a black object). If all have zero power the pick lands

@@ -42,7 +42,7 @@ glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
 void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
   expect_object(ctx, n,
                 {"width", "height", "spp", "seed", "max_depth", "reflection_depth",
-                 "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp", "rr_depth"});
+                 "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp", "rr_depth", "sampler"});
   // 65536 per side is far beyond any film we write and keeps width * height in range.
   if_present(n, "width", [&](const Node& c) { r->width = read_int_in(ctx, c, 1, 65536); });
   if_present(n, "height", [&](const Node& c) { r->height = read_int_in(ctx, c, 1, 65536); });
@@ -69,6 +69,10 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
     r->clamp = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
   });
   if_present(n, "rr_depth", [&](const Node& c) { r->rr_depth = read_int_in(ctx, c, 0, kMaxInt); });
+  if_present(n, "sampler", [&](const Node& c) {
+    r->sampler = read_enum<RenderSettings::Sampler>(
+        ctx, c, {{"sobol", RenderSettings::Sampler::Sobol}, {"independent", RenderSettings::Sampler::Independent}});
+  });
 }
 
 // ---- camera ----------------------------------------------------------------------------------

@@ -36,6 +36,10 @@ struct RenderSettings {
   bool lobe_splitting = true;
   float clamp = 0.0f;  // 0 = off
   int rr_depth = 3;    // archwave extension: first bounce at which Russian roulette may end a path
+  // Where the random numbers come from (kernels/common/rng.h): Owen-scrambled Sobol' points,
+  // or independent (white-noise) hashes, kept for comparison.
+  enum class Sampler { Sobol, Independent };
+  Sampler sampler = Sampler::Sobol;
 };
 
 struct ExposureDesc {

@@ -20,12 +20,17 @@ typedef struct {
   int is_delta;
 } LightSample;
 
-// Picks a light with probability select_pdf (proportional to emitted power, computed by the
-// host): a linear scan of the CDF, fine for the handful of lights these scenes have.
+// Picks a light with probability select_pdf (proportional to emitted power) in O(1), whatever
+// the number of lights: Walker's alias method (Walker 1977, "An efficient method for generating
+// discrete random variables with general distributions", ACM TOMS 3(3); the table is built by
+// Vose's algorithm, Vose 1991, IEEE TSE 17(9), in host/render/alias_table.h). One uniform
+// number does both draws: its bin, floor(u n), and the remainder u n - bin, which is uniform
+// in [0, 1) given the bin and decides between the bin's light and its alias.
 AW_FN uint light_pick(const AW_GLOBAL LightGpu* lights, uint num_lights, float u) {
-  for (uint i = 0; i + 1 < num_lights; ++i)
-    if (u < lights[i].select_cdf) return i;
-  return num_lights - 1;
+  float x = u * (float)num_lights;
+  uint i = min((uint)x, num_lights - 1u);
+  float r = x - (float)i;
+  return r < lights[i].alias_q ? i : lights[i].alias;
 }
 
 // Light-type tests below are written `AW_FEAT_LIGHT_X && type == X`: in a specialised build
@@ -46,6 +51,89 @@ AW_FN float sphere_one_minus_cos_max(float sin2_max) {
   return sin2_max / (1.0f + cos_max);
 }
 
+/* ------------------------------ spherical rectangles ------------------------------------ */
+// Uniform sampling of the solid angle a rectangle subtends: Urena, Fajardo & King 2013, "An
+// Area-Preserving Parametrization for Spherical Rectangles", EGSR (Computer Graphics Forum
+// 32(4)), Sec. 3 (the rectangle's local frame and the four planes through the eye and its
+// edges), Sec. 4 (the solid angle S = g0 + g1 + g2 + g3 - 2 pi from the internal angles)
+// and Sec. 5 (inverting the area of the sub-rectangle for x, then uniform in the height h for
+// y). The density is 1 / S everywhere on the rectangle, so the light sample's weight no longer
+// carries the 1 / d^2 and cos factors that make area sampling noisy close to a light.
+typedef struct {
+  float3 o, x, y, z;           // the eye and the rectangle's frame (z points away from the eye's side)
+  float x0, y0, z0, x1, y1;    // the rectangle in that frame: [x0, x1] x [y0, y1] at height z0 <= 0
+  float b0, b1, k, S;          // Sec. 4-5: n0.z, n2.z, 2 pi - g2 - g3, the solid angle
+} SphRect;
+
+AW_FN SphRect sph_rect_make(float3 corner, float3 eu, float3 ev, float3 o) {
+  SphRect r;
+  float lu = length(eu), lv = length(ev);
+  r.o = o;
+  r.x = eu / lu;
+  r.y = ev / lv;
+  r.z = cross(r.x, r.y);
+  float3 d = corner - o;
+  r.z0 = dot(d, r.z);
+  if (r.z0 > 0.0f) {  // look at the rectangle from the z < 0 side
+    r.z = -r.z;
+    r.z0 = -r.z0;
+  }
+  r.x0 = dot(d, r.x);
+  r.y0 = dot(d, r.y);
+  r.x1 = r.x0 + lu;
+  r.y1 = r.y0 + lv;
+  // Normals of the planes through o and each edge (Sec. 3, written out for the local frame).
+  float3 n0 = normalize(make_float3(0.0f, r.z0, -r.y0));
+  float3 n1 = normalize(make_float3(-r.z0, 0.0f, r.x1));
+  float3 n2 = normalize(make_float3(0.0f, -r.z0, r.y1));
+  float3 n3 = normalize(make_float3(r.z0, 0.0f, -r.x0));
+  float g0 = acos(clamp(-dot(n0, n1), -1.0f, 1.0f));
+  float g1 = acos(clamp(-dot(n1, n2), -1.0f, 1.0f));
+  float g2 = acos(clamp(-dot(n2, n3), -1.0f, 1.0f));
+  float g3 = acos(clamp(-dot(n3, n0), -1.0f, 1.0f));
+  r.b0 = n0.z;
+  r.b1 = n2.z;
+  r.k = 2.0f * M_PI_F - g2 - g3;
+  r.S = g0 + g1 - r.k;
+  return r;
+}
+
+// The point for u in [0, 1)^2 (Sec. 5, Algorithm 1).
+AW_FN float3 sph_rect_sample(const SphRect* r, float2 u) {
+  float au = u.x * r->S + r->k;
+  float fu = (cos(au) * r->b0 - r->b1) / sin(au);
+  float cu = copysign(1.0f, fu) / sqrt(fu * fu + r->b0 * r->b0);
+  cu = clamp(cu, -1.0f, 1.0f);
+  float xu = -(cu * r->z0) / safe_sqrt(1.0f - cu * cu);
+  xu = clamp(xu, r->x0, r->x1);
+  float dd = sqrt(xu * xu + r->z0 * r->z0);
+  float h0 = r->y0 / sqrt(dd * dd + r->y0 * r->y0);
+  float h1 = r->y1 / sqrt(dd * dd + r->y1 * r->y1);
+  float hv = h0 + u.y * (h1 - h0);
+  float hv2 = hv * hv;
+  float yv = hv2 < 1.0f - 1e-6f ? (hv * dd) / sqrt(1.0f - hv2) : r->y1;
+  yv = clamp(yv, r->y0, r->y1);
+  return r->o + xu * r->x + yv * r->y + r->z0 * r->z;
+}
+
+// Solid angles below this are sampled by area instead: S is a difference of angles near 2 pi
+// in single precision, with an absolute error of about 4e-7 sr, so its relative error grows
+// as the rectangle shrinks (measured against the closed form for a unit square: 1e-7 at
+// S ~ 0.2-2 sr, 4e-5 at 1e-2 sr, 1.5e-3 at 4e-4 sr, 0.3 at 1e-6 sr). Below 1e-2 sr the pdf
+// would be off by more than 4e-5, and there area sampling is nearly uniform in solid angle
+// anyway (the light is more than 10 of its widths away). Near 2 pi (a point almost in the
+// plane of a huge light) the parametrisation degenerates: area sampling there too.
+#define AW_SPH_RECT_MIN_SOLID_ANGLE 1e-2f
+
+// Whether quad light l is sampled by solid angle from p, and the spherical rectangle if so.
+// light_sample and light_pdf both decide here, from the same inputs, so MIS sees the density
+// that produced the sample.
+AW_FN int light_quad_by_solid_angle(const AW_GLOBAL LightGpu* l, float3 p, SphRect* r) {
+  if (!(l->flags & AW_LIGHT_RECTANGLE)) return 0;
+  *r = sph_rect_make(load_f3(l->p), load_f3(l->u), load_f3(l->v), p);
+  return r->S > AW_SPH_RECT_MIN_SOLID_ANGLE && r->S < 2.0f * M_PI_F - AW_SPH_RECT_MIN_SOLID_ANGLE && isfinite(r->S);
+}
+
 // Solid-angle pdf (given the light is chosen) of reaching `l` from `p` along unit `dir`,
 // hitting it at distance `t`. Must match light_sample exactly (MIS relies on it).
 AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t) {
@@ -64,6 +152,8 @@ AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t
     float cos_l = fabs(dot(normalize(y - c), dir));
     return cos_l > 0.0f ? (t * t) / (l->area * cos_l) : 0.0f;
   }
+  SphRect r;
+  if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD && light_quad_by_solid_angle(l, p, &r)) return 1.0f / r.S;
   float cos_l = fabs(dot(load_f3(l->n), dir));
   return cos_l > 0.0f ? (t * t) / (l->area * cos_l) : 0.0f;
 }
@@ -78,6 +168,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   s.dist = 0.0f;
   s.wi = make_float3(0.0f, 0.0f, 1.0f);
   float3 y;
+  float pdf_solid_angle = 0.0f;  // set when the point was drawn uniformly in solid angle
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) {
     float3 d = load_f3(l->p) - p;
     float d2 = dot(d, d);
@@ -119,7 +210,13 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
     float3 nrm = make_float3(rxy * cos(phi), rxy * sin(phi), z);
     y = c + l->radius * nrm;
   } else if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD) {
-    y = load_f3(l->p) + u.x * load_f3(l->u) + u.y * load_f3(l->v);
+    SphRect r;
+    if (light_quad_by_solid_angle(l, p, &r)) {
+      y = sph_rect_sample(&r, u);
+      pdf_solid_angle = 1.0f / r.S;
+    } else {
+      y = load_f3(l->p) + u.x * load_f3(l->u) + u.y * load_f3(l->v);
+    }
   } else {  // disk
     float2 d = sample_concentric_disk(u);
     y = load_f3(l->p) + l->radius * (d.x * load_f3(l->u) + d.y * load_f3(l->v));
@@ -129,7 +226,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   if (!(d2 > 0.0f)) return s;
   s.dist = sqrt(d2);
   s.wi = d / s.dist;
-  float pdf = light_pdf(l, p, s.wi, s.dist);
+  float pdf = pdf_solid_angle > 0.0f ? pdf_solid_angle : light_pdf(l, p, s.wi, s.dist);
   if (!(pdf > 0.0f) || !isfinite(pdf)) return s;
   s.le = light_emitted(l, s.wi);
   s.pdf = pdf;

@@ -12,6 +12,7 @@
 
 #define AW_LIGHT_TWO_SIDED 1u
 #define AW_LIGHT_VISIBLE 2u
+#define AW_LIGHT_RECTANGLE 4u  // a quad whose edges are orthogonal: sampled by solid angle (lights.h)
 
 // One light. Meaning of p/u/v by type:
 //   point:  p = position
@@ -27,9 +28,9 @@ typedef struct {
   float p[3];
   float select_pdf;  // probability that light sampling picks this light
   float u[3];
-  float select_cdf;  // cumulative select_pdf up to and including this light
-  float v[3];
-  float pad0;
+  float alias_q;     // light selection's alias table (lights.h, light_pick): keep this light with
+  float v[3];        // probability alias_q when its bin is drawn, else take light `alias`
+  uint alias;
   float n[3];
   float pad1;
   float radiance[3];
@@ -64,6 +65,7 @@ typedef struct {
   uint batch_sample;
   uint job_count;  // jobs in this batch
   uint split_spp;  // spp when per-lobe samples split at the first hit (integrator/split.h), else 0
+  uint sampler;    // AW_SAMPLER_* (kernels/common/rng.h)
 } RenderParams;
 
 #endif

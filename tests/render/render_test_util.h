@@ -4,8 +4,13 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
+
+#include "host/render/render.h"
 
 namespace aw_test {
 
@@ -17,6 +22,25 @@ inline std::string write_temp_scene(const std::string& prefix, const std::string
   std::string path = testing::TempDir() + "/" + prefix + "_" + std::to_string(getpid()) + "_" + std::to_string(n++) + ".json";
   std::ofstream(path) << json;
   return path;
+}
+
+// Two renders of the same scene with independent random numbers (other seeds, or another
+// sampler): the z statistic of the mean per-pixel difference (summed over RGB). Pixels are
+// independent, so the mean of N differences is ~normal with standard error sd / sqrt(N).
+// Prints the figures under `what`.
+inline double mean_difference_z(const aw::RenderResult& a, const aw::RenderResult& b, const char* what) {
+  size_t n = a.count.size();
+  double sum = 0.0, sum2 = 0.0;
+  for (size_t p = 0; p < n; ++p) {
+    double d = 0.0;
+    for (int c = 0; c < 3; ++c) d += a.sum[p * 3 + c] / a.count[p] - b.sum[p * 3 + c] / b.count[p];
+    sum += d;
+    sum2 += d * d;
+  }
+  double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+  double z = mean / (sd / std::sqrt(double(n)));
+  std::printf("%s: mean difference %.3g (sd %.3g, z %.2f)\n", what, mean, sd, z);
+  return z;
 }
 
 }  // namespace aw_test

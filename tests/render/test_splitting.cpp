@@ -14,6 +14,7 @@
 #include "host/render/render.h"
 #include "host/render/scene_pack.h"
 #include "host/scene/scene.h"
+#include "tests/render/render_test_util.h"
 #include "kernels/integrator/split.h"
 
 namespace {
@@ -113,17 +114,7 @@ TEST(Splitting, Unbiased) {
   aw::Scene a_scene = glossy(16, true, 11, 128, 96, mirror), b_scene = glossy(256, false, 12, 128, 96, mirror);
   aw::RenderResult a = aw::render_scalar(a_scene, quiet());
   aw::RenderResult b = aw::render_scalar(b_scene, quiet());
-  size_t n = a.count.size();
-  double sum = 0.0, sum2 = 0.0;
-  for (size_t p = 0; p < n; ++p) {
-    double d = 0.0;
-    for (int c = 0; c < 3; ++c) d += a.sum[p * 3 + c] / a.count[p] - b.sum[p * 3 + c] / b.count[p];
-    sum += d;
-    sum2 += d * d;
-  }
-  double mean = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
-  double z = mean / (sd / std::sqrt(double(n)));
-  std::printf("split vs unsplit: mean difference %.3g (sd %.3g, z %.2f)\n", mean, sd, z);
+  double z = aw_test::mean_difference_z(a, b, "split vs unsplit");
   EXPECT_LT(std::fabs(z), 3.89);
 }
 

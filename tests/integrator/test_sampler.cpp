@@ -1,0 +1,156 @@
+// The samplers of kernels/common/rng.h (docs/architecture.md, "Random numbers"): the
+// Owen-scrambled Sobol' sampler's stratification, which is what makes it converge faster
+// than white noise, its decorrelation across dimensions and pixels, and the independent
+// sampler kept as it was.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "kernels/common/rng.h"
+
+namespace {
+
+// 24-bit fixed point of a sample (rng_to_unit keeps the top 24 bits exactly).
+uint32_t fixed24(float u) { return uint32_t(double(u) * 16777216.0); }
+
+// The points i in [first, first + 2^k) of one (seed, pixel, bounce, dim) set fall one per
+// elementary interval of area 2^-k, for every shape 2^a x 2^(k-a): a (0,k,2)-net.
+void expect_2d_net(uint32_t seed, uint32_t pixel, uint32_t bounce, uint32_t dim, int k, uint32_t first) {
+  const uint32_t n = 1u << k;
+  std::vector<uint32_t> x(n), y(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float2 u = rng_2d(AW_SAMPLER_SOBOL, seed, pixel, first + i, bounce, dim);
+    ASSERT_TRUE(u.x >= 0.0f && u.x < 1.0f && u.y >= 0.0f && u.y < 1.0f);
+    x[i] = fixed24(u.x);
+    y[i] = fixed24(u.y);
+  }
+  for (int a = 0; a <= k; ++a) {
+    std::vector<int> cells(n, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+      uint32_t cx = a == 0 ? 0u : x[i] >> (24 - a), cy = k - a == 0 ? 0u : y[i] >> (24 - (k - a));
+      ++cells[(cx << (k - a)) | cy];
+    }
+    for (uint32_t c = 0; c < n; ++c)
+      ASSERT_EQ(cells[c], 1) << "k=" << k << " shape 2^" << a << " x 2^" << k - a << " cell " << c << " seed "
+                             << seed << " pixel " << pixel << " bounce " << bounce << " dim " << dim
+                             << " first " << first;
+  }
+}
+
+TEST(SobolSampler, FirstPowerOfTwoSamplesOfEveryPixelAndSetAreNets) {
+  for (uint32_t seed : {0u, 7u})
+    for (uint32_t pixel : {0u, 1u, 12345u})
+      for (uint32_t bounce : {0u, 3u})
+        for (uint32_t dim : {uint32_t(AW_DIM_CAMERA), uint32_t(AW_DIM_LIGHT), uint32_t(AW_DIM_BSDF)})
+          for (int k = 0; k <= 10; ++k) expect_2d_net(seed, pixel, bounce, dim, k, 0u);
+}
+
+// Lobe-splitting children draw sample + s * spp (integrator/split.h): with a power-of-two spp
+// each child's block of indices is an aligned block, and stratified too.
+TEST(SobolSampler, AlignedLaterBlocksAreNetsToo) {
+  for (uint32_t m : {1u, 3u, 17u}) expect_2d_net(1u, 42u, 0u, AW_DIM_BSDF, 6, m << 6);
+}
+
+TEST(SobolSampler, OneDimensionalSetsAreStratified) {
+  for (uint32_t dim : {uint32_t(AW_DIM_LOBE), uint32_t(AW_DIM_LIGHT_PICK), uint32_t(AW_DIM_RR)})
+    for (uint32_t pixel : {0u, 99u})
+      for (int k = 0; k <= 12; ++k) {
+        const uint32_t n = 1u << k;
+        std::vector<int> cells(n, 0);
+        for (uint32_t i = 0; i < n; ++i) {
+          float u = rng_1d(AW_SAMPLER_SOBOL, 3u, pixel, i, 2u, dim);
+          ASSERT_TRUE(u >= 0.0f && u < 1.0f);
+          ++cells[k == 0 ? 0u : fixed24(u) >> (24 - k)];
+        }
+        for (uint32_t c = 0; c < n; ++c) ASSERT_EQ(cells[c], 1) << "dim " << dim << " k " << k << " cell " << c;
+      }
+}
+
+// Sample correlation of two sequences of N numbers.
+double correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  double ma = 0, mb = 0;
+  for (size_t i = 0; i < a.size(); ++i) ma += a[i], mb += b[i];
+  ma /= double(a.size());
+  mb /= double(b.size());
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    sab += (a[i] - ma) * (b[i] - mb);
+    saa += (a[i] - ma) * (a[i] - ma);
+    sbb += (b[i] - mb) * (b[i] - mb);
+  }
+  return sab / std::sqrt(saa * sbb);
+}
+
+// Without the per-set shuffle, the sets of one pixel would share the index order, and the
+// first digits of, say, the lobe choice and Russian roulette would be equal or opposite for
+// every sample (correlation +-1). Independent sets have a correlation of about N^-1/2; the
+// bound is 5 of those (two-sided significance about 6e-7 per pair for independent numbers).
+TEST(SobolSampler, SetsAndPixelsAreDecorrelated) {
+  const int n = 4096;
+  const double bound = 5.0 / std::sqrt(double(n));
+  auto seq = [&](uint32_t pixel, uint32_t bounce, uint32_t dim, bool y) {
+    std::vector<double> v(n);
+    for (int i = 0; i < n; ++i) {
+      float2 u = rng_2d(AW_SAMPLER_SOBOL, 5u, pixel, uint32_t(i), bounce, dim);
+      v[size_t(i)] = y ? u.y : u.x;
+    }
+    return v;
+  };
+  auto one = [&](uint32_t pixel, uint32_t bounce, uint32_t dim) {
+    std::vector<double> v(n);
+    for (int i = 0; i < n; ++i) v[size_t(i)] = rng_1d(AW_SAMPLER_SOBOL, 5u, pixel, uint32_t(i), bounce, dim);
+    return v;
+  };
+  EXPECT_LT(std::fabs(correlation(one(10, 0, AW_DIM_LOBE), one(10, 0, AW_DIM_RR))), bound);
+  EXPECT_LT(std::fabs(correlation(one(10, 0, AW_DIM_LOBE), one(10, 1, AW_DIM_LOBE))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(10, 0, AW_DIM_BSDF, false), seq(10, 0, AW_DIM_LIGHT, false))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(10, 0, AW_DIM_BSDF, true), seq(10, 0, AW_DIM_LIGHT, true))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(10, 0, AW_DIM_BSDF, false), seq(11, 0, AW_DIM_BSDF, false))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(10, 2, AW_DIM_CAMERA, false), seq(10, 2, AW_DIM_CAMERA, true))), bound);
+}
+
+// The same pixel, set and index give the same number in the same call made twice or from
+// the 1-D and 2-D interfaces (classify_hit and shade_surface must agree on the BSDF numbers).
+TEST(SobolSampler, PureFunctionOfItsArguments) {
+  for (uint32_t i = 0; i < 100; ++i) {
+    float2 a = rng_2d(AW_SAMPLER_SOBOL, 9u, 77u, i, 1u, AW_DIM_BSDF);
+    float2 b = rng_2d(AW_SAMPLER_SOBOL, 9u, 77u, i, 1u, AW_DIM_BSDF);
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+    EXPECT_EQ(rng_1d(AW_SAMPLER_SOBOL, 9u, 77u, i, 1u, AW_DIM_BSDF), a.x);
+  }
+  EXPECT_NE(rng_2d(AW_SAMPLER_SOBOL, 9u, 77u, 0u, 1u, AW_DIM_BSDF).x, rng_2d(AW_SAMPLER_SOBOL, 10u, 77u, 0u, 1u, AW_DIM_BSDF).x);
+}
+
+// The independent sampler is the hash archwave used before the Sobol' sampler, unchanged:
+// pcg4d of (pixel, sample, bounce << 8 | dim, seed), top 24 bits.
+TEST(IndependentSampler, IsThePcg4dHash) {
+  for (uint32_t i = 0; i < 50; ++i) {
+    uint32_t v[4] = {123u, i, (2u << 8) | uint32_t(AW_DIM_LIGHT), 8u};
+    pcg4d(v);
+    float2 u = rng_2d(AW_SAMPLER_INDEPENDENT, 8u, 123u, i, 2u, AW_DIM_LIGHT);
+    EXPECT_EQ(u.x, float(v[0] >> 8) / 16777216.0f);
+    EXPECT_EQ(u.y, float(v[1] >> 8) / 16777216.0f);
+    EXPECT_EQ(rng_1d(AW_SAMPLER_INDEPENDENT, 8u, 123u, i, 2u, AW_DIM_LIGHT), u.x);
+  }
+}
+
+TEST(SobolPrimitives, GeneratorsAndScrambles) {
+  EXPECT_EQ(reverse_bits32(1u), 0x80000000u);
+  EXPECT_EQ(reverse_bits32(0x12345678u), 0x1e6a2c48u);
+  // Sobol' dimension 1's first points: 0, 1/2, 3/4, 1/4 (Joe & Kuo's table for x + 1).
+  EXPECT_EQ(sobol_dim1(0u), 0u);
+  EXPECT_EQ(sobol_dim1(1u), 0x80000000u);
+  EXPECT_EQ(sobol_dim1(2u), 0xc0000000u);
+  EXPECT_EQ(sobol_dim1(3u), 0x40000000u);
+  // An Owen scramble is a bijection that keeps prefixes together: numbers that share their
+  // top d bits still do after it.
+  for (uint32_t seed : {0u, 0xdeadbeefu}) {
+    uint32_t a = nested_uniform_scramble(0x12345678u, seed), b = nested_uniform_scramble(0x1234ffffu, seed);
+    EXPECT_EQ(a >> 16, b >> 16);
+    EXPECT_NE(nested_uniform_scramble(0x12345678u, seed), nested_uniform_scramble(0x12345679u, seed));
+  }
+}
+
+}  // namespace
