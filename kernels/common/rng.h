@@ -85,14 +85,21 @@ AW_FN uint reverse_bits32(uint x) {
 // Sobol' dimension 0 (van der Corput: the index's bits mirrored) and dimension 1 (primitive
 // polynomial x + 1, direction numbers v_0 = 1/2, v_k = v_{k-1} xor v_{k-1} / 2: Joe & Kuo
 // 2008, "Constructing Sobol sequences with better two-dimensional projections", Sec. 2), as
-// 32-bit fractions.
+// 32-bit fractions. Dimension 1's generator matrix is Pascal's triangle mod 2: digit r of
+// the point (r = 0 the first, 1/2) is the XOR of the index bits c with binom(c, r) odd, that
+// is with r a bit-subset of c (Lucas' theorem). That superset XOR over the 32 bit positions
+// takes five shift-and-mask steps instead of a loop over the index bits (sobol_superset_xor,
+// digit r at bit r; the fraction is its mirror image).
 AW_FN uint sobol_dim0(uint i) { return reverse_bits32(i); }
-AW_FN uint sobol_dim1(uint i) {
-  uint x = 0u;
-  for (uint v = 0x80000000u; i != 0u; i >>= 1, v ^= v >> 1)
-    if (i & 1u) x ^= v;
-  return x;
+AW_FN uint sobol_superset_xor(uint z) {
+  z ^= (z >> 1) & 0x55555555u;
+  z ^= (z >> 2) & 0x33333333u;
+  z ^= (z >> 4) & 0x0f0f0f0fu;
+  z ^= (z >> 8) & 0x00ff00ffu;
+  z ^= (z >> 16) & 0x0000ffffu;
+  return z;
 }
+AW_FN uint sobol_dim1(uint i) { return reverse_bits32(sobol_superset_xor(i)); }
 
 // Laine & Karras' permutation as improved by Burley 2020 (Sec. 3): every output bit is the
 // input bit XOR a function of the lower bits only (additions and multiplications by even
@@ -122,19 +129,24 @@ AW_FN void sobol_set_seeds(uint seed, uint pixel, uint bounce, uint dim, uint* s
   pcg4d(s);
 }
 
+// The point of sample `sample` in one padded set. Written out: the shuffle is
+// nested_uniform_scramble(sample), and scrambling a Sobol' coordinate mirrors it, permutes and
+// mirrors back; since dimension 0 is the mirrored index and dimension 1 the mirrored superset
+// XOR, the mirrors in between cancel (the same numbers as scrambling sobol_dim0/1(index)).
 AW_FN float2 rng_sobol_2d(uint seed, uint pixel, uint sample, uint bounce, uint dim) {
   uint s[4];
   sobol_set_seeds(seed, pixel, bounce, dim, s);
   uint i = nested_uniform_scramble(sample, s[0]);
-  return make_float2(rng_to_unit(nested_uniform_scramble(sobol_dim0(i), s[1])),
-                     rng_to_unit(nested_uniform_scramble(sobol_dim1(i), s[2])));
+  uint x = reverse_bits32(laine_karras_permutation(i, s[1]));
+  uint y = reverse_bits32(laine_karras_permutation(sobol_superset_xor(i), s[2]));
+  return make_float2(rng_to_unit(x), rng_to_unit(y));
 }
 
 AW_FN float rng_sobol_1d(uint seed, uint pixel, uint sample, uint bounce, uint dim) {
   uint s[4];
   sobol_set_seeds(seed, pixel, bounce, dim, s);
   uint i = nested_uniform_scramble(sample, s[0]);
-  return rng_to_unit(nested_uniform_scramble(sobol_dim0(i), s[1]));
+  return rng_to_unit(reverse_bits32(laine_karras_permutation(i, s[1])));
 }
 
 /* ------------------------------------ the interface -------------------------------------- */

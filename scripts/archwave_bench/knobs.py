@@ -1,5 +1,6 @@
-"""Section "Knob sweeps at equal time": lobe splitting, trace depth, cut-off and Russian
-roulette, each setting's error at a common render time T and its time to a common error."""
+"""Section "Knob sweeps at equal time": lobe splitting, trace depth, cut-off, Russian
+roulette and the sampler, each setting's error at a common render time T and its time to a
+common error."""
 
 import json
 import math
@@ -23,7 +24,8 @@ CORNELL = [("default (max_depth 8, cutoff 0.001, RR from bounce 3)", [], "unbias
            ("cutoff 0.01", ["render.cutoff=0.01"], "unbiased"),
            ("cutoff 0.1", ["render.cutoff=0.1"], "unbiased"),
            ("Russian roulette off (rr_depth 1000)", ["render.rr_depth=1000"], "unbiased"),
-           ("Russian roulette from bounce 1", ["render.rr_depth=1"], "unbiased")]
+           ("Russian roulette from bounce 1", ["render.rr_depth=1"], "unbiased"),
+           ("sampler independent (white noise instead of Sobol')", ["render.sampler=independent"], "unbiased")]
 
 
 def splitting_settings(path):
@@ -41,7 +43,8 @@ def splitting_settings(path):
     return [("default (the scene's lobe samples; below spp: no split)", [], "unbiased"),
             ("samples = 4·spp: 4 rays per glossy lobe at the first hit", split(4), "unbiased"),
             ("samples = 4·spp, lobe_splitting false", split(4, on=False), "unbiased"),
-            ("samples = 16·spp: 16 rays per glossy lobe", split(16), "unbiased")]
+            ("samples = 16·spp: 16 rays per glossy lobe", split(16), "unbiased"),
+            ("sampler independent (white noise instead of Sobol')", ["render.sampler=independent"], "unbiased")]
 
 
 def knob_settings(ctx):

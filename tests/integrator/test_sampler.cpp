@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "kernels/common/rng.h"
@@ -144,6 +145,22 @@ TEST(SobolPrimitives, GeneratorsAndScrambles) {
   EXPECT_EQ(sobol_dim1(1u), 0x80000000u);
   EXPECT_EQ(sobol_dim1(2u), 0xc0000000u);
   EXPECT_EQ(sobol_dim1(3u), 0x40000000u);
+  // The superset-XOR form of dimension 1 equals the direction-number loop, and the fused
+  // scrambles of rng_sobol_2d equal scrambling sobol_dim0/1 of the shuffled index.
+  std::mt19937 rng(3);
+  for (int k = 0; k < 20000; ++k) {
+    uint32_t i = k < 1000 ? uint32_t(k) : uint32_t(rng());
+    uint32_t x = 0, v = 0x80000000u;
+    for (uint32_t j = i; j != 0u; j >>= 1, v ^= v >> 1)
+      if (j & 1u) x ^= v;
+    ASSERT_EQ(sobol_dim1(i), x) << i;
+    uint32_t s[4];
+    sobol_set_seeds(4u, 17u, 2u, AW_DIM_BSDF, s);
+    uint32_t idx = nested_uniform_scramble(i, s[0]);
+    float2 u = rng_2d(AW_SAMPLER_SOBOL, 4u, 17u, i, 2u, AW_DIM_BSDF);
+    ASSERT_EQ(u.x, rng_to_unit(nested_uniform_scramble(sobol_dim0(idx), s[1])));
+    ASSERT_EQ(u.y, rng_to_unit(nested_uniform_scramble(sobol_dim1(idx), s[2])));
+  }
   // An Owen scramble is a bijection that keeps prefixes together: numbers that share their
   // top d bits still do after it.
   for (uint32_t seed : {0u, 0xdeadbeefu}) {
