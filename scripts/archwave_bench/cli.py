@@ -8,21 +8,23 @@ import time
 
 from . import REPO, RUN_ORDER, SECTIONS
 from . import __doc__ as PACKAGE_DOC
-from . import devices, knobs, scaling, specialisation, sweeps, throughput
+from . import devices, knobs, race, scaling, specialisation, sweeps, throughput
 from .context import Context
 from .report import blocks, compose, update_docs, write_report
 from .tools import SuiteError, log
 
 MODULES = {"sweeps": sweeps, "knobs": knobs, "throughput": throughput, "specialisation": specialisation,
-           "scaling": scaling, "devices": devices}
+           "scaling": scaling, "devices": devices, "race": race}
 
 
 def budget_share(ctx, name, only):
     """Seconds for an adaptive section: the sweeps take the larger part of what the fixed
-    sections left, because their references are also the knobs' references."""
+    sections left, because their references are also the knobs' references. The race, which
+    runs after them, keeps its allowance."""
+    left = ctx.left() - (race.allowance(ctx) * 60.0 if "race" in only else 0.0)
     if name == "sweeps":
-        return max(ctx.left() * (0.72 if "knobs" in only else 0.95), 0.0)
-    return max(ctx.left() * 0.95, 0.0)
+        return max(left * (0.72 if "knobs" in only else 0.95), 0.0)
+    return max(left * 0.95, 0.0)
 
 
 def run_sections(ctx, only):
@@ -51,7 +53,8 @@ def parse(argv):
     ap.add_argument("--results", default=os.path.join(REPO, "results"),
                     help="results root: <timestamp>/ for this run, refs/ and meshes/ caches (default results/)")
     ap.add_argument("--budget-minutes", type=float, default=None,
-                    help="time budget for the whole run (default 16; 1.5 with --quick)")
+                    help="time budget for the whole run (default 16, 1.5 with --quick, plus the race's "
+                         "allowance when it runs: about 6 with both peers installed, 0.4 with --quick)")
     ap.add_argument("--quick", action="store_true", help="smoke run: tiny sizes, about a minute")
     ap.add_argument("--only", default=",".join(SECTIONS), help="comma-separated sections: " + ",".join(SECTIONS))
     ap.add_argument("--device", type=int, default=0, help="OpenCL device for the wavefront renders")
@@ -61,9 +64,10 @@ def parse(argv):
                     help="rewrite the generated blocks of docs/performance.md (the text around them is "
                          "kept) and copy the plots to docs/perf/")
     args = ap.parse_args(argv)
-    if args.budget_minutes is None:
-        args.budget_minutes = 1.5 if args.quick else 16.0
     only = [s.strip() for s in args.only.split(",") if s.strip()]
+    args.budget_default = args.budget_minutes is None
+    if args.budget_default:
+        args.budget_minutes = 1.5 if args.quick else 16.0  # the race's allowance is added in main()
     bad = [s for s in only if s not in SECTIONS]
     if bad:
         ap.error(f"unknown section(s) {', '.join(bad)}; choose from {', '.join(SECTIONS)}")
@@ -78,6 +82,10 @@ def main(argv):
     try:
         ctx = Context(args)
         log(f"writing {ctx.out}")
+        if "race" in only and args.budget_default:
+            extra = race.allowance(ctx)
+            args.budget_minutes += extra
+            ctx.budget += extra * 60.0
         sections, seconds = run_sections(ctx, only)
         parts = blocks(ctx, argv, sections, seconds, only)
     except SuiteError as e:

@@ -1,0 +1,503 @@
+"""Section "The race" (issue 11): the same scenes rendered by archwave, Blender Cycles and
+Mitsuba 3 (its multijitter and independent samplers), one after another on the same cores;
+render time, RMSE and relMSE against one high-spp reference, time to equal error, error-vs-time
+plots, and a check that each peer's converged image agrees with archwave's per image region
+before its timing is trusted.
+
+The peers get archwave's scenes through the exporters in bench/ (race_scene.py reads the
+exportable subset; export_cycles.py runs inside Blender, export_mitsuba.py under a Python that
+has Mitsuba). A peer that is not installed is skipped with a message; so is a scene that is
+outside the subset."""
+
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+from . import REPO
+from .errors import loglog_fit
+from .exr import read_exr
+from .plots import loglog_figure
+from .scenes import BenchScene, scene_file, scene_size
+from .tables import fmt, md_table
+from .tools import log
+
+sys.path.insert(0, os.path.join(REPO, "bench"))
+import race_scene  # noqa: E402
+
+EXPORT_CYCLES = os.path.join(REPO, "bench", "export_cycles.py")
+EXPORT_MITSUBA = os.path.join(REPO, "bench", "export_mitsuba.py")
+LLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
+TOLERANCE = 0.005   # the issue's "within 0.5% per image region"
+SIGMAS = 3.0        # a region disagrees when |difference| > TOLERANCE + SIGMAS * its standard error
+GRID = 4            # regions: GRID x GRID blocks of the image
+LUMA = np.array([0.2126, 0.7152, 0.0722], np.float32)
+
+# (key, title, scene file, width)
+SCENES = [("cornell", "Cornell box (Lambert; quad and point light)", ("cornell.json",), 128),
+          ("race_spheres", "glass, GGX and Lambert spheres under a quad light", ("bench", "race_spheres.json"), 160),
+          ("race_small_light", "a small bright sphere light dominates (plus a dim quad light)",
+           ("bench", "race_small_light.json"), 128)]
+
+
+def setup(ctx):
+    """(scenes, spp ladder, nominal spp, archwave reference spp wanted, its time cap (s),
+    seconds for each peer's converged renders per scene)."""
+    if ctx.quick:
+        key, title, path, _ = SCENES[0]
+        p = scene_file(*path)
+        return [BenchScene(key, title, p, *scene_size(p, 32))], (4, 16), 16, 256, 10.0, 1.0
+    scenes = [BenchScene(k, t, scene_file(*p), *scene_size(scene_file(*p), w)) for k, t, p, w in SCENES]
+    return scenes, (4, 16, 64, 256), 64, 4096, 60.0, 24.0
+
+
+# ---------------------------------------------------------------------------- the peers
+
+def mitsuba_python():
+    """The interpreter that has Mitsuba: $ARCHWAVE_MITSUBA_PYTHON, else the virtualenv
+    scripts/install_peers.sh makes (build/peers-venv), else this one. (Set it to a Python
+    without Mitsuba, e.g. /usr/bin/python3, to leave Mitsuba out.)"""
+    env = os.environ.get("ARCHWAVE_MITSUBA_PYTHON")
+    if env:
+        return env
+    venv = os.path.join(REPO, "build", "peers-venv", "bin", "python")
+    return venv if os.access(venv, os.X_OK) else sys.executable
+
+
+def mitsuba_env():
+    env = dict(os.environ)
+    if "DRJIT_LIBLLVM_PATH" not in env and os.path.exists(LLVM):
+        env["DRJIT_LIBLLVM_PATH"] = LLVM
+    return env
+
+
+def blender():
+    """The Blender binary: $ARCHWAVE_BLENDER (empty: none), else `blender` on the PATH."""
+    path = os.environ.get("ARCHWAVE_BLENDER", "blender")
+    return shutil.which(path) if path else None
+
+
+def find_peers():
+    """{name: None when usable, else the reason it is skipped}."""
+    out = {}
+    if blender():
+        out["cycles"] = None
+    else:
+        out["cycles"] = "`blender` is not installed (scripts/install_peers.sh installs Debian's)"
+    py = mitsuba_python()
+    try:
+        p = subprocess.run([py, "-c", "import mitsuba, drjit; mitsuba.set_variant('llvm_ad_rgb')"],
+                           capture_output=True, text=True, env=mitsuba_env(), timeout=120)
+        out["mitsuba"] = None if p.returncode == 0 else (
+            f"Mitsuba 3 (`llvm_ad_rgb`) does not load under {py}: "
+            + (p.stderr.strip().splitlines() or ["no message"])[-1][:300]
+            + " (scripts/install_peers.sh installs it with libllvm19)")
+    except (OSError, subprocess.TimeoutExpired) as e:
+        out["mitsuba"] = f"Mitsuba 3 does not load under {py}: {e}"
+    for name, why in out.items():
+        if why:
+            log(f"race: {name} skipped: {why}")
+    return out
+
+
+def peers(ctx):
+    """find_peers(), once per run."""
+    if "race_peers" not in ctx.notes:
+        ctx.notes["race_peers"] = find_peers()
+    return ctx.notes["race_peers"]
+
+
+def allowance(ctx):
+    """Minutes the race takes on the 2-core machine, by the peers it will run: what the
+    adaptive sections leave to it and what the default budget adds for it."""
+    n = sum(1 for why in peers(ctx).values() if why is None)
+    return (0.1, 0.25, 0.4)[n] if ctx.quick else (1.5, 4.0, 6.0)[n]
+
+
+# ---------------------------------------------------------------------------- images and errors
+
+def load(path):
+    return np.load(path).astype(np.float32) if path.endswith(".npy") else read_exr(path)
+
+
+def errors(img, ref):
+    """RMSE and relMSE over all pixels and channels, as build/bench/exr_compare computes them."""
+    d = img.astype(np.float64) - ref.astype(np.float64)
+    return float(np.sqrt(np.mean(d * d))), float(np.mean(d * d / (ref.astype(np.float64) ** 2 + 1e-2)))
+
+
+def regions(h, w):
+    return [(slice(i * h // GRID, (i + 1) * h // GRID), slice(j * w // GRID, (j + 1) * w // GRID))
+            for i in range(GRID) for j in range(GRID)]
+
+
+def agreement(img, var, ref, ref_var):
+    """Per region: relative difference of the mean luminance of `img` against `ref`, and its
+    standard error from the per-pixel variances `var`, `ref_var` of the two images (luminance);
+    regions darker than 5% of the image mean are compared against that."""
+    y, yr = img @ LUMA, ref @ LUMA
+    floor = 0.05 * float(yr.mean())
+    out = []
+    for rs in regions(*yr.shape):
+        n = yr[rs].size
+        m, mr = float(y[rs].mean()), float(yr[rs].mean())
+        den = max(mr, floor)
+        sigma = math.sqrt(float(var[rs].sum() + ref_var[rs].sum())) / n / den
+        out.append({"diff": (m - mr) / den, "sigma": sigma})
+    return out
+
+
+def verdict(regs):
+    bad = [r for r in regs if abs(r["diff"]) > TOLERANCE + SIGMAS * r["sigma"]]
+    worst = max(regs, key=lambda r: abs(r["diff"]))
+    return {"agrees": not bad, "disagree": len(bad), "max_diff": worst["diff"], "max_diff_sigma": worst["sigma"],
+            "max_sigma": max(r["sigma"] for r in regs),
+            "unresolved": sum(1 for r in regs if SIGMAS * r["sigma"] > TOLERANCE)}
+
+
+# ---------------------------------------------------------------------------- renderers
+
+def run_archwave(ctx, scene, ladder, ref_want, ref_seconds):
+    ctx.warm_up(scene.path, ladder[0], scene.defines)
+    renders = [ctx.render_scene(scene, f"race_{scene.key}_aw_{spp}", spp) for spp in ladder]
+    ref_exr, ref_meta = ctx.refs.within(scene, ref_want, ref_seconds)
+    ref = read_exr(ref_exr)
+    top = read_exr(renders[-1].exr)
+    # The reference's own per-pixel variance, from the top ladder render's squared error
+    # against it: e^2 = v/s + v/R (white noise; an upper estimate for stratified samplers).
+    s, big_r = ladder[-1], ref_meta["spp"]
+    ref_var = ((top - ref) @ LUMA) ** 2 * (s / big_r) / (1 + s / big_r)
+    points = [{"spp": spp, "seconds": r.seconds, "wall": r.wall, "image": read_exr(r.exr)}
+              for spp, r in zip(ladder, renders)]
+    top_r = renders[-1]
+    startup = {"kernel build": top_r.stats["compile_seconds"], "BVH build": top_r.stats.get("bvh_seconds"),
+               "rest": top_r.wall - top_r.seconds - top_r.stats["compile_seconds"] - top_r.stats.get("bvh_seconds", 0),
+               "process wall": top_r.wall}
+    return {"points": points, "startup": startup, "ref": ref, "ref_var": ref_var, "ref_meta": ref_meta,
+            "stats": renders[-1].stats}
+
+
+def _peer_process(ctx, argv, env, result, label):
+    """Runs a peer's exporter; its result JSON, or a SuiteError naming the failure."""
+    t0 = time.monotonic()
+    argv = argv + ["--t0", repr(time.time())]
+    ctx.tools.run(argv, env=env)
+    wall = time.monotonic() - t0
+    with open(result) as f:
+        res = json.load(f)
+    res["process_wall"] = wall
+    log(f"race: {label}: {wall:.1f} s")
+    return res
+
+
+def _converged(points, halves):
+    """The spp-weighted mean of every render of a peer (they have independent seeds), and its
+    per-pixel luminance variance estimated from the two equal halves `halves` (white-noise
+    scaling to the total spp)."""
+    total = sum(p["spp"] for p in points) + sum(h["spp"] for h in halves)
+    img = sum(p["image"] * (p["spp"] / total) for p in points + halves)
+    a, b = (h["image"] @ LUMA for h in halves)
+    var_half = (a - b) ** 2 / 2.0  # one half's variance, per pixel
+    return img, var_half * halves[0]["spp"] / total, total
+
+
+def run_cycles(ctx, scene, ladder, check_seconds, work):
+    out = os.path.join(work, "cycles")
+    result = os.path.join(out, "result.json")
+    jobs = [f"l{i}_{spp}:{spp}:{i + 1}" for i, spp in enumerate(ladder)]
+    jobs += [f"c{k}:fit{check_seconds / 2:g}:{101 + k}" for k in range(2)]
+    argv = [blender(), "-b", "--factory-startup", "--debug-cycles", "--python-exit-code", "3",
+            "--python", EXPORT_CYCLES, "--", scene.path, "--out", out, "--result", result,
+            "--width", str(scene.width), "--height", str(scene.height)]
+    for j in jobs:
+        argv += ["--job", j]
+    res = _peer_process(ctx, argv, None, result, f"cycles {scene.key}")
+    imgs = {j["name"]: dict(j, image=read_exr(os.path.join(out, j["name"] + ".exr"))) for j in res["jobs"]}
+    points = [imgs[j.split(":")[0]] for j in jobs[:len(ladder)]]
+    conv, var, total = _converged(points, [imgs["c0"], imgs["c1"]])
+    return {"cycles": {"points": points, "meta": res}}, (conv, var, total)
+
+
+def run_mitsuba(ctx, scene, ladder, check_seconds, work):
+    out = os.path.join(work, "mitsuba")
+    result = os.path.join(out, "result.json")
+    jobs = []
+    for sampler in ("multijitter", "independent"):
+        jobs += [f"{sampler}_{spp}:{sampler}:{spp}:{i + 1 + (50 if sampler == 'independent' else 0)}"
+                 for i, spp in enumerate(ladder)]
+    jobs += [f"c{k}:multijitter:fit{check_seconds / 2:g}:{201 + k}" for k in range(2)]
+    argv = [mitsuba_python(), EXPORT_MITSUBA, scene.path, "--out", out, "--result", result,
+            "--width", str(scene.width), "--height", str(scene.height)]
+    for j in jobs:
+        argv += ["--job", j]
+    res = _peer_process(ctx, argv, mitsuba_env(), result, f"mitsuba {scene.key}")
+    imgs = {j["name"]: dict(j, image=np.load(os.path.join(out, j["name"] + ".npy"))) for j in res["jobs"]}
+    rows = {}
+    for sampler in ("multijitter", "independent"):
+        rows[f"mitsuba_{sampler}"] = {"points": [imgs[f"{sampler}_{spp}"] for spp in ladder], "meta": res}
+    every = rows["mitsuba_multijitter"]["points"] + rows["mitsuba_independent"]["points"]
+    conv, var, total = _converged(every, [imgs["c0"], imgs["c1"]])
+    return rows, (conv, var, total)
+
+
+# ---------------------------------------------------------------------------- measuring
+
+def time_to(points, key, goal):
+    """Seconds at which error `key` reaches `goal`: log-log interpolation between the two
+    renders that bracket it, or extrapolation along the nearest two (flagged)."""
+    t = np.array([p["seconds"] for p in points], float)
+    e = np.array([p[key] for p in points], float)
+    if len(t) < 2 or goal <= 0 or np.any(t <= 0) or np.any(e <= 0):
+        return float("nan"), False
+    lt, le, lg = np.log(t), np.log(e), math.log(goal)
+    for i in range(len(t) - 1):
+        lo, hi = sorted((le[i], le[i + 1]))
+        if lo <= lg <= hi and le[i] != le[i + 1]:
+            f = (lg - le[i]) / (le[i + 1] - le[i])
+            return float(math.exp(lt[i] + f * (lt[i + 1] - lt[i]))), False
+    i = 0 if lg > le[0] else len(t) - 2
+    if le[i] == le[i + 1]:
+        return float("nan"), True
+    slope = (le[i + 1] - le[i]) / (lt[i + 1] - lt[i])
+    return float(math.exp(lt[i] + (lg - le[i]) / slope)), True
+
+
+def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, check_seconds):
+    try:
+        race_scene.describe(scene.path, scene.width, scene.height)
+    except race_scene.Unsupported as e:
+        log(f"race: {scene.key}: not exported: {e}")
+        return {"scene": scene, "skipped": str(e)}
+    work = os.path.join(ctx.work, "race", scene.key)
+    os.makedirs(work, exist_ok=True)
+    log(f"race: {scene.key}: archwave")
+    aw = run_archwave(ctx, scene, ladder, ref_want, ref_seconds)
+    rows = {"archwave": {"points": aw["points"], "meta": {"startup": aw["startup"]}}}
+    checks, failures = {}, {}
+    for name, runner in (("cycles", run_cycles), ("mitsuba", run_mitsuba)):
+        if peers.get(name):
+            continue
+        try:
+            got, (conv, var, total) = runner(ctx, scene, ladder, check_seconds, work)
+        except Exception as e:  # noqa: BLE001 -- a peer that fails is reported, never fatal to the suite
+            text = str(e).strip() or type(e).__name__
+            head, _, err = text.partition("\nstderr:\n")
+            tail = [ln.strip() for ln in err.splitlines() if ln.strip()][-3:]
+            failures[name] = (head.splitlines()[0] + (": " + " / ".join(tail) if tail else "")
+                              + " (the command is in commands.log)")[:500]
+            log(f"race: {name} failed on {scene.key}: {failures[name]}")
+            continue
+        rows.update(got)
+        mean = (conv.reshape(-1, 3).mean(0) / aw["ref"].reshape(-1, 3).mean(0) - 1.0).tolist()
+        regs = agreement(conv, var, aw["ref"], aw["ref_var"])
+        checks[name] = dict(verdict(regs), spp=total, mean=mean, regions=regs,
+                            rmse=errors(conv, aw["ref"])[0])
+    for name, row in rows.items():
+        for p in row["points"]:
+            p["rmse"], p["relmse"] = errors(p["image"], aw["ref"])
+            del p["image"]
+    base = {p["spp"]: p for p in rows["archwave"]["points"]}[nominal]
+    goals = {"rmse": base["rmse"], "relmse": base["relmse"]}
+    for name, row in rows.items():
+        row["to"] = {k: time_to(row["points"], k, g) for k, g in goals.items()}
+    return {"scene": scene, "rows": rows, "checks": checks, "failures": failures, "goals": goals,
+            "ref": aw["ref_meta"], "nominal": nominal, "ladder": ladder}
+
+
+def measure(ctx):
+    scenes, ladder, nominal, ref_want, ref_seconds, check_seconds = setup(ctx)
+    found = peers(ctx)
+    results = [measure_scene(ctx, sc, found, ladder, nominal, ref_want, ref_seconds, check_seconds)
+               for sc in scenes]
+    return {"peers": found, "scenes": results, "ladder": ladder, "nominal": nominal}
+
+
+# ---------------------------------------------------------------------------- the report
+
+LABELS = {"archwave": "archwave (wavefront)", "cycles": "Cycles", "mitsuba_multijitter": "Mitsuba 3, multijitter",
+          "mitsuba_independent": "Mitsuba 3, independent"}
+PEER_OF = {"cycles": "cycles", "mitsuba_multijitter": "mitsuba", "mitsuba_independent": "mitsuba"}
+
+
+def _label(name, row):
+    meta = row["meta"]
+    if name == "cycles":
+        return f"Cycles {meta['version']} ({meta['sampling_pattern'].lower().replace('_', ' ')})"
+    if name.startswith("mitsuba"):
+        return f"Mitsuba {meta['version']} `{meta['variant']}`, {name.split('_', 1)[1]}"
+    return LABELS[name]
+
+
+def _trusted(res, name):
+    peer = PEER_OF.get(name)
+    return peer is None or res["checks"].get(peer, {}).get("agrees", False)
+
+
+def main_table(res):
+    nominal, goals = res["nominal"], res["goals"]
+    aw = res["rows"]["archwave"]["to"]
+    rows = []
+    for name, row in res["rows"].items():
+        p = {q["spp"]: q for q in row["points"]}[nominal]
+        cells = [_label(name, row) + ("" if _trusted(res, name) else " (**converged image disagrees**)"),
+                 fmt(p["seconds"]), fmt(p["rmse"]), fmt(p["relmse"])]
+        for k in ("rmse", "relmse"):
+            t, extrap = row["to"][k]
+            cells += [(fmt(t) + (" (extrap.)" if extrap else "")) if math.isfinite(t) else "–",
+                      fmt(aw[k][0] / t, 3) if math.isfinite(t) and math.isfinite(aw[k][0]) else "–"]
+        rows.append(cells)
+    return md_table(["renderer", f"render time at {nominal} spp (s)", "RMSE", "relMSE",
+                     f"time to RMSE {fmt(goals['rmse'])} (s)", "archwave's time ÷ this",
+                     f"time to relMSE {fmt(goals['relmse'])} (s)", "archwave's time ÷ this"], rows)
+
+
+def check_table(res):
+    rows = []
+    for peer, c in res["checks"].items():
+        rows.append([peer, c["spp"], " / ".join(f"{100 * m:+.2f}%" for m in c["mean"]),
+                     f"{100 * c['max_diff']:+.2f}% ± {100 * c['max_diff_sigma']:.2f}%",
+                     f"{100 * c['max_sigma']:.2f}%", c["unresolved"], c["disagree"],
+                     "agrees" if c["agrees"] else "**disagrees**"])
+    return md_table(["peer", "its spp (all renders)", "mean R / G / B vs archwave", "largest region difference ± σ",
+                     "largest σ", f"regions with {SIGMAS:g}σ > {100 * TOLERANCE:g}%", "regions outside", "verdict"],
+                    rows)
+
+
+def _startup_cells(name, row):
+    meta = row["meta"]
+    s = meta["startup"]
+    if name == "archwave":
+        return [f"kernel build {fmt(s['kernel build'])} (after a warm-up render), BVH build {fmt(s['BVH build'])}, "
+                f"rest of the process {fmt(s['rest'])}", fmt(s["process wall"])]
+    if name == "cycles":
+        w = meta["warmup"]
+        return [f"Blender start {fmt(s['blender_start'])}, scene build (Python) {fmt(s['scene_build'])}, "
+                f"1-spp warm-up {fmt(w['wall'])}", fmt(meta["process_wall"])]
+    warm = [w for w in meta["warmups"] if w["sampler"] == name.split("_", 1)[1]]
+    return [f"interpreter {fmt(s['python_start'])}, import {fmt(s['import'])}, variant {fmt(s['variant'])}, "
+            f"scene build {fmt(s['scene_build'])}, warm-up render {fmt(warm[0]['wall'] if warm else None)} "
+            f"(JIT compilation {fmt(warm[0]['compile'] if warm else None)})", fmt(meta["process_wall"])]
+
+
+def overhead_table(res):
+    rows = []
+    for name, row in res["rows"].items():
+        top = row["points"][-1]
+        extra = ""
+        if name == "cycles":
+            extra = f"; render call {fmt(top['wall'])} s, Cycles total {fmt(top['total'])} s"
+        elif name.startswith("mitsuba"):
+            extra = f"; JIT in the timed render {fmt(top['compile'])} s"
+        rows.append([_label(name, row), top["spp"], fmt(top["seconds"]) + extra] + _startup_cells(name, row))
+    return md_table(["renderer", "spp", "render time (s)", "outside the render time (s)", "whole process(es) (s)"],
+                    rows)
+
+
+def plot(ctx, res):
+    sc = res["scene"]
+    series = {k: [] for k in ("rmse", "relmse")}
+    for name, row in res["rows"].items():
+        t = [p["seconds"] for p in row["points"]]
+        for k in series:
+            e = [p[k] for p in row["points"]]
+            series[k].append((_label(name, row).replace("`", ""), t, e, *loglog_fit(t, e)))
+    name = f"race_{sc.key}.png"
+    loglog_figure(ctx.png(name), [("render time (s)", "RMSE", series["rmse"], -0.5),
+                                  ("render time (s)", "relMSE", series["relmse"], -1.0)],
+                  f"The race: {sc.title} ({sc.width}x{sc.height}); error vs render time")
+    return name
+
+
+def target_line(scenes):
+    """Issue 11's target (archwave's time to equal error at most Cycles') and ambition (at
+    most the better Mitsuba sampler's), over the scenes that ran, from the main tables."""
+    def ratio(res, peer, k):
+        t_aw = res["rows"]["archwave"]["to"][k][0]
+        ts = [row["to"][k][0] for name, row in res["rows"].items() if name.startswith(peer) and _trusted(res, name)]
+        ts = [t for t in ts if math.isfinite(t)]
+        return t_aw / min(ts) if ts and math.isfinite(t_aw) else None
+    out = []
+    for peer, what in (("cycles", "Target: at most Cycles'"), ("mitsuba", "Ambition: at most Mitsuba 3's (best sampler)")):
+        vals = [(res["scene"].key, k, ratio(res, peer, k)) for res in scenes if "rows" in res
+                for k in ("rmse", "relmse")]
+        known = [v for v in vals if v[2] is not None]
+        if not known:
+            out.append(f"- {what} time to equal RMSE and relMSE: not measured ({peer} did not run or was not trusted).")
+            continue
+        met = all(v[2] <= 1.0 for v in known) and len(known) == len(vals)
+        out.append(f"- {what} time to equal RMSE and relMSE on every race scene: **{'met' if met else 'not met'}** "
+                   "(archwave's time ÷ the peer's: " + ", ".join(f"{s} {k} {fmt(r, 3)}" for s, k, r in known) + ").")
+    return "\n".join(out) + "\n"
+
+
+CAPTION = (
+    "Each scene is rendered by archwave and by the peers that are installed, one renderer after "
+    "another on the same cores, at {ladder} spp (independent seeds). Errors are against one reference, "
+    "archwave's high-spp render of the scene with another seed (the sweeps' reference cache); RMSE over all "
+    "pixels and channels, relMSE dividing each squared error by (reference² + 0.01), as in the sweeps. "
+    "**Time to equal error** is where a renderer's error-vs-time curve, interpolated in log–log between "
+    "its two renders that bracket it (extrapolated along the nearest two when none does), reaches "
+    "archwave's error at {nominal} spp. Render time: archwave, the stats' render time (kernel build, with "
+    "a warm PoCL cache, and BVH build excluded); Cycles, its own \"render time without synchronization\" "
+    "(path tracing; Blender start-up, the Blender-to-Cycles sync and the scene's device update — BVH, "
+    "shaders, light tables — excluded), after an untimed 1-spp warm-up render in the same process; "
+    "Mitsuba, the wall time of `mi.render` until the image is in memory (the integrator is traced "
+    "again each call), after an untimed warm-up render of the same sampler in the same process, "
+    "minus any kernel compilation Dr.Jit's kernel history reports inside it. What lies outside "
+    "these times is in the last table.\n")
+
+CHECK_CAPTION = (
+    "Before a peer's timing is trusted its converged image — the spp-weighted mean of all its renders "
+    "of the scene (the ladder and two equal renders with their own seeds) — is compared with "
+    "archwave's reference in {grid}×{grid} regions: the relative difference of each region's mean "
+    "luminance (regions darker than 5% of the image mean are compared against that), with a "
+    "standard error σ from the per-pixel variances (the peer's from its two equal renders, "
+    "archwave's from its top ladder render against the reference; white-noise scaling). A region "
+    "disagrees when |difference| > {tol:g}% + {k:g}σ; the table also counts the regions where {k:g}σ "
+    "alone exceeds {tol:g}%, where the check cannot resolve {tol:g}%. A disagreeing peer's rows are "
+    "marked in the table above and left out of the target lines.\n")
+
+SETTINGS = (
+    "Settings: archwave's scene file as it is (`render.sampler` its default); Cycles: CPU, all cores, "
+    "box pixel filter of width 1, adaptive sampling, denoising, clamping and glossy filtering off, "
+    "caustics on, max bounces = max_depth − 1 (Cycles counts bounces after the first hit); Mitsuba: "
+    "`path` integrator with max_depth + 1 (it counts path segments), Russian roulette its default, box "
+    "filter of radius 0.5. The exporters and the conventions they translate are described in "
+    "`bench/export_cycles.py` and `bench/export_mitsuba.py`.\n")
+
+
+def render_scene(ctx, res, peers):
+    sc = res["scene"]
+    md = [f"### {sc.title} (`{sc.rel_path()}`, {sc.width}x{sc.height})\n"]
+    if "skipped" in res:
+        return md + [f"Not raced: the scene is outside the exported subset: {res['skipped']}\n"]
+    md += [main_table(res), f"![race {sc.key}]({plot(ctx, res)})\n"]
+    if res["checks"]:
+        md += ["Converged images against archwave's reference:\n", check_table(res)]
+    for peer, msg in res["failures"].items():
+        md.append(f"{peer}: **failed**: {msg}\n")
+    ref = res["ref"]
+    md += [f"Reference: archwave {ref['renderer']}, {ref['spp']} spp, seed {ref['seed']} "
+           f"({'from the cache' if ref.get('reused') else 'rendered in this run'}).\n",
+           "Time outside the render times above (top-spp render; start-up once per scene and process):\n",
+           overhead_table(res)]
+    return md
+
+
+def render(ctx, data):
+    ladder = ", ".join(str(s) for s in data["ladder"])
+    md = ["## The race: archwave, Cycles and Mitsuba 3\n",
+          CAPTION.format(ladder=ladder, nominal=data["nominal"]),
+          CHECK_CAPTION.format(grid=GRID, tol=100 * TOLERANCE, k=SIGMAS), SETTINGS]
+    skipped = [f"{name}: {why}" for name, why in data["peers"].items() if why]
+    if skipped:
+        md.append("**Peers skipped:** " + "; ".join(skipped) + ".\n")
+    md.append(target_line(data["scenes"]))
+    for res in data["scenes"]:
+        md += render_scene(ctx, res, data["peers"])
+    return "\n".join(md)
