@@ -34,7 +34,6 @@ Conventions, each checked against archwave by the race (scripts/archwave_bench/r
 - Roughness: Cycles' roughness r has alpha = r^2.
 """
 
-import json
 import math
 import os
 import sys
@@ -333,13 +332,7 @@ def main(argv):
             raise SystemExit(f"export_cycles: no render time in Cycles' log {log} (run blender with --debug-cycles)")
         result["jobs"].append({"name": name, "spp": int(spp), "seed": int(seed), "wall": wall, "seconds": pt,
                                "total": tot})
-    result["wall_in_process"] = time.time() - T_START
-    text = json.dumps(result, indent=2)
-    if args.result:
-        with open(args.result, "w") as f:
-            f.write(text)
-    else:
-        print(text)
+    race_scene.write_result(result, args.result, T_START)
     return 0
 
 

@@ -31,7 +31,6 @@ Conventions, each checked against archwave by the race (scripts/archwave_bench/r
 """
 
 import argparse
-import json
 import os
 import shutil
 import struct
@@ -227,13 +226,7 @@ def main(argv):
         result["jobs"].append({"name": name, "sampler": sampler, "spp": spp, "seed": seed, "passes": passes, "wall": wall,
                                "compile": comp, "seconds": wall - comp,
                                "execution": sum(k.get("execution_time", 0.0) for k in hist) / 1e3})
-    result["wall_in_process"] = time.time() - T_START
-    text = json.dumps(result, indent=2)
-    if args.result:
-        with open(args.result, "w") as f:
-            f.write(text)
-    else:
-        print(text)
+    race_scene.write_result(result, args.result, T_START)
     return 0
 
 

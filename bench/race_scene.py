@@ -16,6 +16,7 @@ key. Values are clamped to archwave's ranges as archwave's loader clamps them.
 import json
 import math
 import os
+import time
 
 MIRROR_ALPHA = 1e-3      # below this alpha a lobe is a perfect mirror / smooth (kernels/lobes/microfacet.h)
 PASS_THROUGH_EPS = 1e-3  # |ior - 1| below this is a pass-through (kernels/lobes/refraction.h)
@@ -517,3 +518,15 @@ def triangles(obj):
 #   materials: name -> {kind lambert, albedo} | {kind mirror, distribution, alpha, color}
 #                      | {kind glass, ior, tint}
 #   objects: {shape quad|box|sphere|mesh, material, matrix (4x4 row-major), shape keys}
+
+
+def write_result(result, path, t_start):
+    """An exporter's result as JSON, to `path` or (without one) to standard output, with the
+    whole process's wall time since `t_start` (its first line) added."""
+    result["wall_in_process"] = time.time() - t_start
+    text = json.dumps(result, indent=2)
+    if path:
+        with open(path, "w") as f:
+            f.write(text)
+    else:
+        print(text)
