@@ -204,16 +204,15 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   }
 
   // Lights, with selection probabilities proportional to emitted power.
-  std::vector<float> power;
+  std::vector<double> power;  // exact copies of the floats pack_light computes
   for (const LightDesc& d : scene.lights) {
     float p = 0.0f;
     ps.lights.push_back(pack_light(d, &p));
     power.push_back(std::isfinite(p) && p > 0.0f ? p : 0.0f);
   }
   double total = 0.0;
-  for (float p : power) total += p;
-  std::vector<double> weights(power.begin(), power.end());
-  AliasTable alias = build_alias_table(weights);  // light_pick's O(1) selection
+  for (double p : power) total += p;
+  AliasTable alias = build_alias_table(power);  // light_pick's O(1) selection
   for (size_t i = 0; i < ps.lights.size(); ++i) {
     ps.lights[i].select_pdf = float(total > 0.0 ? power[i] / total : 0.0);
     ps.lights[i].alias_q = alias.q[i];
