@@ -1,6 +1,8 @@
 #include "host/cl/cl_runtime.h"
 
 #include <chrono>
+#include <cstdlib>
+#include <iostream>
 #include <sstream>
 
 namespace aw {
@@ -114,6 +116,14 @@ cl::Program ClRuntime::build(const std::string& source, const std::string& optio
     }
     throw ClError("OpenCL program build failed on " + info_.name + " (" + cl_error_name(e.err()) +
                   ") with options \"" + options + "\"; build log:\n" + log);
+  }
+  // Development aid: the compiler's warnings of a successful build (PoCL only prints their count).
+  if (const char* v = std::getenv("ARCHWAVE_BUILD_LOG"); v && *v && std::string(v) != "0") {
+    try {
+      std::cerr << "OpenCL build log (" << info_.name << "):\n"
+                << program.getBuildInfo<CL_PROGRAM_BUILD_LOG>(info_.device) << "\n";
+    } catch (const cl::Error&) {
+    }
   }
   if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return program;
