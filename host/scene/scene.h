@@ -35,7 +35,7 @@ struct RenderSettings {
   float cutoff = 0.001f;
   bool lobe_splitting = true;
   float clamp = 0.0f;  // 0 = off
-  int rr_depth = 3;    // archwave extension: first bounce at which Russian roulette may end a path
+  int rr_depth = 4;    // archwave extension: first bounce at which Russian roulette may end a path
   // Where the random numbers come from (kernels/common/rng.h): Owen-scrambled Sobol' points,
   // or independent (white-noise) hashes, kept for comparison.
   enum class Sampler { Sobol, Independent };

@@ -33,6 +33,7 @@ AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
   PS_U(ps, bounce) = 0u;
   PS_U(ps, flags) = 0u;
   PS_F(ps, emit_scale) = 1.0f;
+  PS_F(ps, eta_scale) = 1.0f;
   PS_U(ps, depths) = 0u;
   PS_U(ps, medium) = AW_NONE;  // cameras start outside every object
 }

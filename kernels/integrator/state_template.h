@@ -11,6 +11,10 @@ AW_STATE_F(ray_dx) AW_STATE_F(ray_dy) AW_STATE_F(ray_dz)
 AW_STATE_F(ray_tmin)  /* > 0 only after passing a cutout: the same ray continues beyond it */
 /* Path throughput and the radiance gathered so far. */
 AW_STATE_F(thr_r) AW_STATE_F(thr_g) AW_STATE_F(thr_b)
+/* Product of eta^2 over the interfaces crossed: throughput x eta_scale is what Russian
+ * roulette and the cut-off judge, so paths inside glass are not killed for the 1/eta^2
+ * that leaving it will undo (pbrt-v4's etaScale). */
+AW_STATE_F(eta_scale)
 AW_STATE_F(rad_r) AW_STATE_F(rad_g) AW_STATE_F(rad_b)
 /* Solid-angle pdf of the last scattering direction (MIS when that ray hits a light). */
 AW_STATE_F(bsdf_pdf)

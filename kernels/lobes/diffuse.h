@@ -97,7 +97,7 @@ AW_FN float lobe_diffuse_pdf(float roughness, float3 wo, float3 wi) {
 }
 
 AW_FN LobeSample lobe_diffuse_sample(float3 albedo, float roughness, float3 wo, float2 u) {
-  LobeSample s;
+  LobeSample s = lobe_no_sample();
   s.wi = sample_cosine_hemisphere(u);
   s.pdf = lobe_diffuse_pdf(roughness, wo, s.wi);
   if (!(s.pdf > 0.0f)) {

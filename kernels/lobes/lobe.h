@@ -29,6 +29,10 @@ typedef struct {
   float3 weight;
   float pdf;
   uint flags;  // 0 = no sample
+  // eta^2 of the interface crossed (eta = n_t / n_i), the inverse of the 1/eta^2 radiance
+  // scaling in `weight`; 1 for everything that does not refract into another medium. Russian
+  // roulette multiplies it out of the throughput (pbrt-v4's etaScale; docs/performance.md).
+  float eta_scale;
 } LobeSample;
 
 AW_FN float cos_theta(float3 w) { return w.z; }
@@ -52,6 +56,7 @@ AW_FN LobeSample lobe_no_sample(void) {
   s.weight = make_float3(0.0f, 0.0f, 0.0f);
   s.pdf = 0.0f;
   s.flags = 0u;
+  s.eta_scale = 1.0f;
   return s;
 }
 

@@ -210,6 +210,7 @@ AW_FN LobeSample lobe_refraction_sample(RefractionParams p, float3 wo, float2 u)
     s.weight = make_float3(w, w, w);
     s.pdf = AW_REFRACTION_DELTA_PDF;
     s.flags = AW_LOBE_SPECULAR | AW_LOBE_TRANSMISSION;
+    s.eta_scale = p.eta * p.eta;
     return s;
   }
 
@@ -225,6 +226,7 @@ AW_FN LobeSample lobe_refraction_sample(RefractionParams p, float3 wo, float2 u)
   s.weight = make_float3(w, w, w);
   s.pdf = pdf;
   s.flags = AW_LOBE_GLOSSY | AW_LOBE_TRANSMISSION;
+  s.eta_scale = p.eta * p.eta;
   return s;
 }
 

@@ -94,7 +94,7 @@ AW_FN float lobe_thin_transmission_pdf(float glossiness, float3 wo, float3 wi) {
 }
 
 AW_FN LobeSample lobe_thin_transmission_sample(float glossiness, float3 wo, float2 u) {
-  LobeSample s;
+  LobeSample s = lobe_no_sample();
   s.wi = make_float3(0.0f, 0.0f, -1.0f);
   s.weight = make_float3(0.0f, 0.0f, 0.0f);
   s.pdf = 0.0f;

@@ -35,7 +35,7 @@ AW_FN float lobe_translucency_pdf(float3 wo, float3 wi) {
 }
 
 AW_FN LobeSample lobe_translucency_sample(float3 color, float3 wo, float2 u) {
-  LobeSample s;
+  LobeSample s = lobe_no_sample();
   s.wi = sample_cosine_hemisphere(u);
   if (wo.z > 0.0f) s.wi.z = -s.wi.z;  // the far side of wo
   s.pdf = lobe_translucency_pdf(wo, s.wi);

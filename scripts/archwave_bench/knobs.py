@@ -15,7 +15,7 @@ from .plots import loglog_figure
 from .tables import fmt, md_table
 from .tools import log
 
-CORNELL = [("default (max_depth 8, cutoff 0.001, RR from bounce 3)", [], "unbiased"),
+CORNELL = [("default (max_depth 8, cutoff 0.001, RR from bounce 4)", [], "unbiased"),
            ("max_depth 1 (direct light only)", ["render.max_depth=1"], "biased: shorter paths"),
            ("max_depth 2", ["render.max_depth=2"], "biased: shorter paths"),
            ("max_depth 4", ["render.max_depth=4"], "biased: shorter paths"),

@@ -249,7 +249,7 @@ TEST(SceneDefaults, EmptyObjectGivesAllDefaults) {
   EXPECT_FLOAT_EQ(s.render.cutoff, 0.001f);
   EXPECT_TRUE(s.render.lobe_splitting);
   EXPECT_FLOAT_EQ(s.render.clamp, 0.0f);
-  EXPECT_EQ(s.render.rr_depth, 3);
+  EXPECT_EQ(s.render.rr_depth, 4);
   expect_vec3(s.camera.position, 0, 1, 4);
   expect_vec3(s.camera.look_at, 0, 1, 0);
   expect_vec3(s.camera.up, 0, 1, 0);
