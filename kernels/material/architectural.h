@@ -120,7 +120,10 @@ AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float 
   float w_transl = (AW_FEAT_TRANSLUCENCY && (m->flags & AW_MAT_TRANSLUCENCY)) ? w_t * m->transl_weight : 0.0f;
   float w_refr = w_t - w_transl;
   float w_d = rest;
-  if ((AW_FEAT_REFRACTION | AW_FEAT_TRANSLUCENCY) != 0)  // "|": clang warns on "||" of constants
+  // (A variable, not "AW_FEAT_REFRACTION || AW_FEAT_TRANSLUCENCY" in the condition: clang and
+  // gcc warn on a condition made of constants.)
+  const int transmissive = AW_FEAT_REFRACTION + AW_FEAT_TRANSLUCENCY;
+  if (transmissive)
     w_d *= (1.0f - m->refr_weight * luminance(load_f3(m->refr_color)));
   else
     w_refr = 0.0f;
