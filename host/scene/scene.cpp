@@ -71,7 +71,9 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
   if_present(n, "rr_depth", [&](const Node& c) { r->rr_depth = read_int_in(ctx, c, 0, kMaxInt); });
   if_present(n, "sampler", [&](const Node& c) {
     r->sampler = read_enum<RenderSettings::Sampler>(
-        ctx, c, {{"sobol", RenderSettings::Sampler::Sobol}, {"independent", RenderSettings::Sampler::Independent}});
+        ctx, c, {{"sobol", RenderSettings::Sampler::Sobol},
+                  {"zsobol", RenderSettings::Sampler::ZSobol},
+                  {"independent", RenderSettings::Sampler::Independent}});
   });
 }
 

@@ -36,9 +36,10 @@ struct RenderSettings {
   bool lobe_splitting = true;
   float clamp = 0.0f;  // 0 = off
   int rr_depth = 4;    // archwave extension: first bounce at which Russian roulette may end a path
-  // Where the random numbers come from (kernels/common/rng.h): Owen-scrambled Sobol' points,
-  // or independent (white-noise) hashes, kept for comparison.
-  enum class Sampler { Sobol, Independent };
+  // Where the random numbers come from (kernels/common/rng.h): Owen-scrambled Sobol' points
+  // per pixel, the same ordered along a randomised Morton curve (blue noise), or independent
+  // (white-noise) hashes, kept for comparison.
+  enum class Sampler { Sobol, ZSobol, Independent };
   Sampler sampler = Sampler::Sobol;
 };
 

@@ -17,8 +17,19 @@
 //   best. Lobe-splitting children use sample indices >= spp (integrator/split.h), the rest of
 //   the same sequence, and disjoint index ranges stay disjoint, so parts of a render over
 //   sample ranges draw the numbers one render would.
+// - AW_SAMPLER_ZSOBOL: the same Owen-scrambled (0,2)-sequence, but one sequence for the whole
+//   image per set, its index ordered along a randomised Morton curve over the pixels (Ahmed &
+//   Wonka 2020, "Screen-space blue-noise diffusion of Monte Carlo sampling error via
+//   hierarchical ordering of pixels", SIGGRAPH Asia, Sec. 4; pbrt-v4's ZSobolSampler is the
+//   same idea): neighbouring pixels take neighbouring blocks of one net, so their errors are
+//   anti-correlated (blue noise) while each pixel's block stays a net (stratified as with
+//   `sobol`). See rng_zsobol_index.
 // - AW_SAMPLER_INDEPENDENT: a 4-D hash per (pixel, sample, bounce, dimension) (pcg4d below):
 //   white noise, the renderer's sampler before the Sobol' one, kept for comparison.
+//
+// A sampler is passed as a `Sampler` value (kind, seed, and what zsobol needs of the image:
+// its width and index layout), built from the render parameters by rp_sampler()
+// (integrator/path_state.h) or by sampler_make() in tests.
 #ifndef AW_COMMON_RNG_H
 #define AW_COMMON_RNG_H
 
@@ -36,6 +47,25 @@
 // render.sampler
 #define AW_SAMPLER_SOBOL 0u
 #define AW_SAMPLER_INDEPENDENT 1u
+#define AW_SAMPLER_ZSOBOL 2u
+
+typedef struct {
+  uint kind;      // AW_SAMPLER_*
+  uint seed;      // render.seed
+  uint width;     // image width (zsobol: pixel index -> x, y)
+  uint log2_spp;  // zsobol: ceil(log2(spp)), the bits of a pixel's block of the sequence
+  uint bits;      // zsobol: 2 ceil(log2(max(width, height))) + log2_spp, the index's bits
+} Sampler;
+
+AW_FN Sampler sampler_make(uint kind, uint seed, uint width, uint log2_spp, uint bits) {
+  Sampler s;
+  s.kind = kind;
+  s.seed = seed;
+  s.width = width;
+  s.log2_spp = log2_spp;
+  s.bits = bits;
+  return s;
+}
 
 // pcg4d: Jarzynski & Olano 2020, "Hash Functions for GPU Rendering", JCGT 9(3), Sec. 3.
 // Chosen over a 1D hash chain because it mixes four independent inputs in one pass and
@@ -149,16 +179,104 @@ AW_FN float rng_sobol_1d(uint seed, uint pixel, uint sample, uint bounce, uint d
   return rng_to_unit(reverse_bits32(laine_karras_permutation(i, s[1])));
 }
 
-/* ------------------------------------ the interface -------------------------------------- */
+/* ------------------------------ Z-ordered (blue-noise) Sobol' ---------------------------- */
 
-AW_FN float2 rng_2d(uint sampler, uint seed, uint pixel, uint sample, uint bounce, uint dim) {
-  if (sampler == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(seed, pixel, sample, bounce, dim);
-  return rng_sobol_2d(seed, pixel, sample, bounce, dim);
+// pcg: Jarzynski & Olano 2020 (JCGT 9(3), Sec. 3): their recommended 1-D 32-bit hash.
+AW_FN uint pcg_hash(uint v) {
+  uint state = v * 747796405u + 2891336453u;
+  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
 }
 
-AW_FN float rng_1d(uint sampler, uint seed, uint pixel, uint sample, uint bounce, uint dim) {
-  if (sampler == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(seed, pixel, sample, bounce, dim).x;
-  return rng_sobol_1d(seed, pixel, sample, bounce, dim);
+// Digit d (0..3) through the p-th (0..23) of the 24 permutations of {0, 1, 2, 3}, in
+// lexicographic order: permutation p is byte p of the table, entry d at bits 2d..2d+1.
+AW_FN uint base4_permute(uint p, uint d) {
+  const uint table[6] = {0x78d8b4e4u, 0xb1e16c9cu, 0x2d8d39c9u, 0x36c672d2u, 0x63931e4eu, 0x1b4b2787u};
+  return (table[p >> 2] >> (8u * (p & 3u) + 2u * d)) & 3u;
+}
+
+// x in the even bits, y in the odd bits (16 bits each: width, height <= 65536).
+AW_FN uint morton2(uint x, uint y) {
+  ulong v = (ulong)x | ((ulong)y << 32);
+  v = (v | (v << 8)) & 0x00ff00ff00ff00ffUL;
+  v = (v | (v << 4)) & 0x0f0f0f0f0f0f0f0fUL;
+  v = (v | (v << 2)) & 0x3333333333333333UL;
+  v = (v | (v << 1)) & 0x5555555555555555UL;
+  return (uint)v | ((uint)(v >> 32) << 1);
+}
+
+// The index into the set's sequence of sample `sample` of pixel (x, y) (Ahmed & Wonka 2020,
+// Sec. 4). The Morton code of the pixel followed by the sample's log2_spp bits, read as
+// base-4 digits from the top (aligned at the bottom; an odd count leaves bit 0 a base-2
+// digit), has every digit replaced by its image under a random permutation of {0..3} chosen
+// by a hash of the digits above it and of the set. That is an Owen scramble in base 4 of the
+// quadtree of pixels: the four quadrants of every node go, in a random order, to the four
+// quarters of the node's range of indices. So:
+// - a pixel's samples are one aligned block of 2^log2_spp indices (its digits are above the
+//   sample digits, which are only permuted among themselves), and an aligned block of a
+//   (0,2)-sequence is a (0, log2_spp, 2)-net: each pixel stratified as with `sobol`;
+// - the pixels of every aligned 2^j x 2^j square share one aligned block of 4^j blocks: a
+//   net over the square, so neighbours' errors cancel in a low-pass view (blue noise);
+// - the order differs per set (the hash takes it), which decorrelates the sets.
+AW_FN ulong rng_zsobol_index(Sampler s, uint pixel, uint sample, uint set_seed) {
+  uint x = pixel % s.width, y = pixel / s.width;
+  ulong m = ((ulong)morton2(x, y) << s.log2_spp) | (ulong)sample;
+  ulong out = 0;
+  int odd = (int)(s.bits & 1u);
+  for (int shift = (int)s.bits - 2; shift >= odd; shift -= 2) {
+    ulong higher = m >> (shift + 2);
+    uint h = pcg_hash((uint)higher ^ pcg_hash((uint)(higher >> 32) ^ set_seed));
+    uint d = (uint)(m >> shift) & 3u;
+    out |= (ulong)base4_permute(h % 24u, d) << shift;
+  }
+  if (odd) {
+    ulong higher = m >> 1;
+    uint h = pcg_hash((uint)higher ^ pcg_hash((uint)(higher >> 32) ^ set_seed));
+    out |= (m & 1UL) ^ (ulong)(h >> 31);
+  }
+  return out;
+}
+
+// The set's seeds: [0] orders the index, [1] and [2] scramble the two coordinates. Unlike
+// sobol_set_seeds, the pixel is not among them: one scrambled sequence serves the image.
+AW_FN void zsobol_set_seeds(uint seed, uint bounce, uint dim, uint* s) {
+  s[0] = 0x25081u;  // a tag: these hashes never equal the other samplers'
+  s[1] = (bounce << 8) | dim;
+  s[2] = seed;
+  s[3] = 0x2b1u;
+  pcg4d(s);
+}
+
+// The point: Sobol' dimensions 0 and 1 of the index's low 32 bits, Owen-scrambled as in
+// rng_sobol_2d. Indices of more than 32 bits (images over 65536 pixels at 65536 spp) fold
+// their high bits into the scrambles, so those points stay distinct. Sample indices past a
+// pixel's block (lobe-splitting children, >= spp) take the `sobol` sampler's numbers, which
+// are stratified per pixel the same way (their blocks are aligned too).
+AW_FN float2 rng_zsobol_2d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
+  if ((sample >> s.log2_spp) != 0u) return rng_sobol_2d(s.seed, pixel, sample, bounce, dim);
+  uint k[4];
+  zsobol_set_seeds(s.seed, bounce, dim, k);
+  ulong i = rng_zsobol_index(s, pixel, sample, k[0]);
+  uint lo = (uint)i, hi = (uint)(i >> 32);
+  uint s1 = k[1] ^ pcg_hash(hi), s2 = k[2] ^ pcg_hash(hi ^ 0x9e3779b9u);
+  uint xs = reverse_bits32(laine_karras_permutation(lo, s1));
+  uint ys = reverse_bits32(laine_karras_permutation(sobol_superset_xor(lo), s2));
+  return make_float2(rng_to_unit(xs), rng_to_unit(ys));
+}
+
+/* ------------------------------------ the interface -------------------------------------- */
+
+AW_FN float2 rng_2d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
+  if (s.kind == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(s.seed, pixel, sample, bounce, dim);
+  if (s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_2d(s, pixel, sample, bounce, dim);
+  return rng_sobol_2d(s.seed, pixel, sample, bounce, dim);
+}
+
+// The first coordinate of the 2-D set (the same number rng_2d(...).x gives).
+AW_FN float rng_1d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
+  if (s.kind == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(s.seed, pixel, sample, bounce, dim).x;
+  if (s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_2d(s, pixel, sample, bounce, dim).x;
+  return rng_sobol_1d(s.seed, pixel, sample, bounce, dim);
 }
 
 #endif

@@ -174,7 +174,7 @@ AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const
   if (AW_FEAT_REFLECTION && (m->refl[0].weight > 0.0f || m->refl[1].weight > 0.0f)) {
     float3 rt, rb;
     material_reflection_frame(m, n, tangent, &rt, &rb);
-    float2 u_bsdf = rng_2d(rp->sampler, rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
+    float2 u_bsdf = rng_2d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
     lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, n), u_bsdf, front);
   } else {
     lw = material_lobe_weights_f(m, 0.0f, 0.0f, front);
@@ -185,7 +185,7 @@ AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const
   for (uint i = 0; i < AW_LID_COUNT; ++i) total += lw.prob[i];
   if (!(total > 0.0f)) return AW_Q_DONE;
   for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] /= total;
-  uint lid = material_pick_lobe(&lw, rng_1d(rp->sampler, rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE));
+  uint lid = material_pick_lobe(&lw, rng_1d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE));
   if (lid >= AW_LID_COUNT) return AW_Q_DONE;
   if (!lobe_compiled(lid)) {  // unreachable after the material check in classify_hit; kept as a guard
     PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;

@@ -16,7 +16,7 @@ AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
   uint sample = rp->batch_sample + k / npix;
   uint px = pixel % rp->width, py = pixel / rp->width;
 
-  float2 j = rng_2d(rp->sampler, rp->seed, pixel, sample, 0u, AW_DIM_CAMERA);
+  float2 j = rng_2d(rp_sampler(rp), pixel, sample, 0u, AW_DIM_CAMERA);
   float sx = (2.0f * ((float)px + j.x) / (float)rp->width - 1.0f) * rp->tan_half_fov * rp->aspect;
   float sy = (1.0f - 2.0f * ((float)py + j.y) / (float)rp->height) * rp->tan_half_fov;
   float3 d = normalize(load_f3p(rp->cam_forward) + sx * load_f3p(rp->cam_right) + sy * load_f3p(rp->cam_up));

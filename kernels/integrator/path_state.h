@@ -3,6 +3,8 @@
 #define AW_INTEGRATOR_PATH_STATE_H
 
 #include "common/compat.h"
+#include "common/rng.h"
+#include "types/scene.h"
 
 enum {
 #define AW_STATE_F(name) AW_SF_##name,
@@ -30,6 +32,11 @@ enum {
 #define AW_PATH_SPLIT 32u            // the first-hit lobe is being split (integrator/split.h)
 
 #define AW_NONE 0xffffffffu
+
+// The render's sampler (render.sampler and what it needs of the image), for rng_1d/rng_2d.
+AW_FN Sampler rp_sampler(const RenderParams* rp) {
+  return sampler_make(rp->sampler, rp->seed, rp->width, rp->sampler_log2_spp, rp->sampler_bits);
+}
 
 // A handle on one path: the buffers, the pool size (the stride between fields) and the slot.
 // snap_f / snap_u: the first-hit snapshot of lobe splitting (integrator/split.h); only the

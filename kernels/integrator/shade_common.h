@@ -17,10 +17,10 @@
 AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, float3 p,
                                    uint* light, float* pdf) {
   uint pixel = PS_U(ps, pixel), sample = PS_U(ps, sample), bounce = PS_U(ps, bounce);
-  float u_pick = rng_1d(rp->sampler, rp->seed, pixel, sample, bounce, AW_DIM_LIGHT_PICK);
+  float u_pick = rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK);
   *light = light_pick(sc.lights, rp->num_lights, u_pick);
   const AW_GLOBAL LightGpu* l = &sc.lights[*light];
-  LightSample ls = light_sample(l, p, rng_2d(rp->sampler, rp->seed, pixel, sample, bounce, AW_DIM_LIGHT));
+  LightSample ls = light_sample(l, p, rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT));
   *pdf = ls.pdf * l->select_pdf;
   return ls;
 }
@@ -73,7 +73,7 @@ AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng
   if (bounce + 1u >= rp->rr_depth) q = fmin(1.0f, sqrt(m));
   if (m < cutoff) q = fmin(q, m / cutoff);
   if (q < 1.0f) {
-    float u = rng_1d(rp->sampler, rp->seed, PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_RR);
+    float u = rng_1d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_RR);
     if (u >= q) return AW_Q_DONE;
     thr = thr / q;
   }

@@ -59,7 +59,7 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
     }
   }
 
-  float2 u = rng_2d(rp->sampler, rp->seed, PS_U(ps, pixel), PS_U(ps, sample), PS_U(ps, bounce), AW_DIM_BSDF);
+  float2 u = rng_2d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), PS_U(ps, bounce), AW_DIM_BSDF);
   LobeSample s = lobe_sample(&l, wo, u);
   s.weight = s.weight * lw;
   s.wi = frame_to_world(s.wi, t, b, n);

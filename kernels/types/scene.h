@@ -66,6 +66,8 @@ typedef struct {
   uint job_count;  // jobs in this batch
   uint split_spp;  // spp when per-lobe samples split at the first hit (integrator/split.h), else 0
   uint sampler;    // AW_SAMPLER_* (kernels/common/rng.h)
+  uint sampler_log2_spp;  // zsobol: ceil(log2(spp)) (common/rng.h, Sampler)
+  uint sampler_bits;      // zsobol: 2 ceil(log2(max(width, height))) + sampler_log2_spp
 } RenderParams;
 
 #endif

@@ -25,7 +25,8 @@ CORNELL = [("default (max_depth 8, cutoff 0.001, RR from bounce 4)", [], "unbias
            ("cutoff 0.1", ["render.cutoff=0.1"], "unbiased"),
            ("Russian roulette off (rr_depth 1000)", ["render.rr_depth=1000"], "unbiased"),
            ("Russian roulette from bounce 1", ["render.rr_depth=1"], "unbiased"),
-           ("sampler independent (white noise instead of Sobol')", ["render.sampler=independent"], "unbiased")]
+           ("sampler independent (white noise instead of Sobol')", ["render.sampler=independent"], "unbiased"),
+           ("sampler zsobol (Sobol' in blue-noise pixel order)", ["render.sampler=zsobol"], "unbiased")]
 
 
 def splitting_settings(path):
@@ -44,7 +45,8 @@ def splitting_settings(path):
             ("samples = 4·spp: 4 rays per glossy lobe at the first hit", split(4), "unbiased"),
             ("samples = 4·spp, lobe_splitting false", split(4, on=False), "unbiased"),
             ("samples = 16·spp: 16 rays per glossy lobe", split(16), "unbiased"),
-            ("sampler independent (white noise instead of Sobol')", ["render.sampler=independent"], "unbiased")]
+            ("sampler independent (white noise instead of Sobol')", ["render.sampler=independent"], "unbiased"),
+            ("sampler zsobol (Sobol' in blue-noise pixel order)", ["render.sampler=zsobol"], "unbiased")]
 
 
 def knob_settings(ctx):

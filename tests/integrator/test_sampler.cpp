@@ -4,6 +4,7 @@
 // sampler kept as it was.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -21,7 +22,7 @@ void expect_2d_net(uint32_t seed, uint32_t pixel, uint32_t bounce, uint32_t dim,
   const uint32_t n = 1u << k;
   std::vector<uint32_t> x(n), y(n);
   for (uint32_t i = 0; i < n; ++i) {
-    float2 u = rng_2d(AW_SAMPLER_SOBOL, seed, pixel, first + i, bounce, dim);
+    float2 u = rng_2d(sampler_make(AW_SAMPLER_SOBOL, seed, 0u, 0u, 0u), pixel, first + i, bounce, dim);
     ASSERT_TRUE(u.x >= 0.0f && u.x < 1.0f && u.y >= 0.0f && u.y < 1.0f);
     x[i] = fixed24(u.x);
     y[i] = fixed24(u.y);
@@ -60,7 +61,7 @@ TEST(SobolSampler, OneDimensionalSetsAreStratified) {
         const uint32_t n = 1u << k;
         std::vector<int> cells(n, 0);
         for (uint32_t i = 0; i < n; ++i) {
-          float u = rng_1d(AW_SAMPLER_SOBOL, 3u, pixel, i, 2u, dim);
+          float u = rng_1d(sampler_make(AW_SAMPLER_SOBOL, 3u, 0u, 0u, 0u), pixel, i, 2u, dim);
           ASSERT_TRUE(u >= 0.0f && u < 1.0f);
           ++cells[k == 0 ? 0u : fixed24(u) >> (24 - k)];
         }
@@ -93,14 +94,14 @@ TEST(SobolSampler, SetsAndPixelsAreDecorrelated) {
   auto seq = [&](uint32_t pixel, uint32_t bounce, uint32_t dim, bool y) {
     std::vector<double> v(n);
     for (int i = 0; i < n; ++i) {
-      float2 u = rng_2d(AW_SAMPLER_SOBOL, 5u, pixel, uint32_t(i), bounce, dim);
+      float2 u = rng_2d(sampler_make(AW_SAMPLER_SOBOL, 5u, 0u, 0u, 0u), pixel, uint32_t(i), bounce, dim);
       v[size_t(i)] = y ? u.y : u.x;
     }
     return v;
   };
   auto one = [&](uint32_t pixel, uint32_t bounce, uint32_t dim) {
     std::vector<double> v(n);
-    for (int i = 0; i < n; ++i) v[size_t(i)] = rng_1d(AW_SAMPLER_SOBOL, 5u, pixel, uint32_t(i), bounce, dim);
+    for (int i = 0; i < n; ++i) v[size_t(i)] = rng_1d(sampler_make(AW_SAMPLER_SOBOL, 5u, 0u, 0u, 0u), pixel, uint32_t(i), bounce, dim);
     return v;
   };
   EXPECT_LT(std::fabs(correlation(one(10, 0, AW_DIM_LOBE), one(10, 0, AW_DIM_RR))), bound);
@@ -115,13 +116,13 @@ TEST(SobolSampler, SetsAndPixelsAreDecorrelated) {
 // the 1-D and 2-D interfaces (classify_hit and shade_surface must agree on the BSDF numbers).
 TEST(SobolSampler, PureFunctionOfItsArguments) {
   for (uint32_t i = 0; i < 100; ++i) {
-    float2 a = rng_2d(AW_SAMPLER_SOBOL, 9u, 77u, i, 1u, AW_DIM_BSDF);
-    float2 b = rng_2d(AW_SAMPLER_SOBOL, 9u, 77u, i, 1u, AW_DIM_BSDF);
+    float2 a = rng_2d(sampler_make(AW_SAMPLER_SOBOL, 9u, 0u, 0u, 0u), 77u, i, 1u, AW_DIM_BSDF);
+    float2 b = rng_2d(sampler_make(AW_SAMPLER_SOBOL, 9u, 0u, 0u, 0u), 77u, i, 1u, AW_DIM_BSDF);
     EXPECT_EQ(a.x, b.x);
     EXPECT_EQ(a.y, b.y);
-    EXPECT_EQ(rng_1d(AW_SAMPLER_SOBOL, 9u, 77u, i, 1u, AW_DIM_BSDF), a.x);
+    EXPECT_EQ(rng_1d(sampler_make(AW_SAMPLER_SOBOL, 9u, 0u, 0u, 0u), 77u, i, 1u, AW_DIM_BSDF), a.x);
   }
-  EXPECT_NE(rng_2d(AW_SAMPLER_SOBOL, 9u, 77u, 0u, 1u, AW_DIM_BSDF).x, rng_2d(AW_SAMPLER_SOBOL, 10u, 77u, 0u, 1u, AW_DIM_BSDF).x);
+  EXPECT_NE(rng_2d(sampler_make(AW_SAMPLER_SOBOL, 9u, 0u, 0u, 0u), 77u, 0u, 1u, AW_DIM_BSDF).x, rng_2d(sampler_make(AW_SAMPLER_SOBOL, 10u, 0u, 0u, 0u), 77u, 0u, 1u, AW_DIM_BSDF).x);
 }
 
 // The independent sampler is the hash archwave used before the Sobol' sampler, unchanged:
@@ -130,10 +131,10 @@ TEST(IndependentSampler, IsThePcg4dHash) {
   for (uint32_t i = 0; i < 50; ++i) {
     uint32_t v[4] = {123u, i, (2u << 8) | uint32_t(AW_DIM_LIGHT), 8u};
     pcg4d(v);
-    float2 u = rng_2d(AW_SAMPLER_INDEPENDENT, 8u, 123u, i, 2u, AW_DIM_LIGHT);
+    float2 u = rng_2d(sampler_make(AW_SAMPLER_INDEPENDENT, 8u, 0u, 0u, 0u), 123u, i, 2u, AW_DIM_LIGHT);
     EXPECT_EQ(u.x, float(v[0] >> 8) / 16777216.0f);
     EXPECT_EQ(u.y, float(v[1] >> 8) / 16777216.0f);
-    EXPECT_EQ(rng_1d(AW_SAMPLER_INDEPENDENT, 8u, 123u, i, 2u, AW_DIM_LIGHT), u.x);
+    EXPECT_EQ(rng_1d(sampler_make(AW_SAMPLER_INDEPENDENT, 8u, 0u, 0u, 0u), 123u, i, 2u, AW_DIM_LIGHT), u.x);
   }
 }
 
@@ -157,7 +158,7 @@ TEST(SobolPrimitives, GeneratorsAndScrambles) {
     uint32_t s[4];
     sobol_set_seeds(4u, 17u, 2u, AW_DIM_BSDF, s);
     uint32_t idx = nested_uniform_scramble(i, s[0]);
-    float2 u = rng_2d(AW_SAMPLER_SOBOL, 4u, 17u, i, 2u, AW_DIM_BSDF);
+    float2 u = rng_2d(sampler_make(AW_SAMPLER_SOBOL, 4u, 0u, 0u, 0u), 17u, i, 2u, AW_DIM_BSDF);
     ASSERT_EQ(u.x, rng_to_unit(nested_uniform_scramble(sobol_dim0(idx), s[1])));
     ASSERT_EQ(u.y, rng_to_unit(nested_uniform_scramble(sobol_dim1(idx), s[2])));
   }
@@ -168,6 +169,152 @@ TEST(SobolPrimitives, GeneratorsAndScrambles) {
     EXPECT_EQ(a >> 16, b >> 16);
     EXPECT_NE(nested_uniform_scramble(0x12345678u, seed), nested_uniform_scramble(0x12345679u, seed));
   }
+}
+
+// ---- zsobol: the same (0,2)-sequence, one per set for the whole image, in Z order ----------
+
+// A zsobol sampler for a width x height image at spp samples per pixel, laid out as
+// host/render/scene_pack.cpp lays it out.
+Sampler zsobol(uint32_t seed, uint32_t width, uint32_t height, uint32_t spp) {
+  auto ceil_log2 = [](uint32_t n) {
+    uint32_t r = 0;
+    while ((uint64_t(1) << r) < n) ++r;
+    return r;
+  };
+  uint32_t l = ceil_log2(spp);
+  return sampler_make(AW_SAMPLER_ZSOBOL, seed, width, l, 2u * ceil_log2(std::max(width, height)) + l);
+}
+
+// The points of a list of (pixel, sample) pairs form a (0,k,2)-net, k = log2 of their count.
+void expect_zsobol_net(Sampler z, const std::vector<std::pair<uint32_t, uint32_t>>& ps, uint32_t bounce,
+                       uint32_t dim) {
+  const uint32_t n = uint32_t(ps.size());
+  int k = 0;
+  while ((1u << k) < n) ++k;
+  ASSERT_EQ(1u << k, n);
+  std::vector<uint32_t> x(n), y(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float2 u = rng_2d(z, ps[i].first, ps[i].second, bounce, dim);
+    ASSERT_TRUE(u.x >= 0.0f && u.x < 1.0f && u.y >= 0.0f && u.y < 1.0f);
+    x[i] = fixed24(u.x);
+    y[i] = fixed24(u.y);
+  }
+  for (int a = 0; a <= k; ++a) {
+    std::vector<int> cells(n, 0);
+    for (uint32_t i = 0; i < n; ++i) {
+      uint32_t cx = a == 0 ? 0u : x[i] >> (24 - a), cy = k - a == 0 ? 0u : y[i] >> (24 - (k - a));
+      ++cells[(cx << (k - a)) | cy];
+    }
+    for (uint32_t c = 0; c < n; ++c)
+      ASSERT_EQ(cells[c], 1) << "k=" << k << " shape 2^" << a << " x 2^" << k - a << " cell " << c;
+  }
+}
+
+// Each pixel's samples are an aligned block of the set's sequence: a net, as with `sobol`,
+// for even and odd log2(spp) (the odd case ends in a base-2 digit).
+TEST(ZSobolSampler, EveryPixelsSamplesAreANet) {
+  for (uint32_t spp : {1u, 2u, 8u, 16u, 64u}) {
+    Sampler z = zsobol(3u, 40u, 24u, spp);
+    for (uint32_t pixel : {0u, 1u, 41u, 959u})
+      for (uint32_t dim : {uint32_t(AW_DIM_CAMERA), uint32_t(AW_DIM_BSDF)}) {
+        std::vector<std::pair<uint32_t, uint32_t>> ps;
+        for (uint32_t i = 0; i < spp; ++i) ps.push_back({pixel, i});
+        expect_zsobol_net(z, ps, 1u, dim);
+      }
+  }
+}
+
+// What makes the error blue: the pixels of an aligned 2^j x 2^j square share one aligned
+// block of the sequence, so all their samples together are a net too (white-noise or
+// per-pixel-scrambled samples are not: their union is just random).
+TEST(ZSobolSampler, AlignedSquaresOfPixelsTogetherAreANet) {
+  const uint32_t w = 32u, h = 32u;
+  for (uint32_t spp : {1u, 2u, 4u}) {
+    Sampler z = zsobol(11u, w, h, spp);
+    for (uint32_t j : {1u, 2u, 3u})
+      for (uint32_t x0 : {0u, 8u})
+        for (uint32_t y0 : {0u, 16u}) {
+          std::vector<std::pair<uint32_t, uint32_t>> ps;
+          for (uint32_t y = y0; y < y0 + (1u << j); ++y)
+            for (uint32_t x = x0; x < x0 + (1u << j); ++x)
+              for (uint32_t i = 0; i < spp; ++i) ps.push_back({y * w + x, i});
+          expect_zsobol_net(z, ps, 0u, AW_DIM_LIGHT);
+        }
+  }
+}
+
+// The reordering is a bijection: over a whole (power-of-two) image every index of the set's
+// sequence is used exactly once, whatever the spp's parity.
+TEST(ZSobolSampler, IndexOrderIsABijection) {
+  for (uint32_t spp : {1u, 2u, 8u}) {
+    Sampler z = zsobol(5u, 16u, 16u, spp);
+    std::vector<int> seen(size_t(1) << z.bits, 0);
+    for (uint32_t p = 0; p < 256u; ++p)
+      for (uint32_t i = 0; i < spp; ++i) {
+        uint64_t k = rng_zsobol_index(z, p, i, 0x1234u);
+        ASSERT_LT(k, seen.size());
+        ++seen[size_t(k)];
+      }
+    for (size_t k = 0; k < seen.size(); ++k) ASSERT_EQ(seen[k], 1) << "spp " << spp << " index " << k;
+  }
+}
+
+// Sample indices past a pixel's block (lobe-splitting children) take the `sobol` numbers;
+// the sets stay decorrelated (the bound of SetsAndPixelsAreDecorrelated); non-square images
+// and a non-power-of-two spp work; and the function is pure.
+TEST(ZSobolSampler, ChildrenSetsAndPurity) {
+  Sampler z = zsobol(9u, 200u, 120u, 48u);  // spp 48: blocks of 64
+  for (uint32_t i : {64u, 100u, 48u * 3u}) {
+    float2 a = rng_2d(z, 777u, i, 0u, AW_DIM_BSDF);
+    float2 b = rng_2d(sampler_make(AW_SAMPLER_SOBOL, 9u, 0u, 0u, 0u), 777u, i, 0u, AW_DIM_BSDF);
+    EXPECT_EQ(a.x, b.x);
+    EXPECT_EQ(a.y, b.y);
+  }
+  const int n = 4096;
+  const double bound = 5.0 / std::sqrt(double(n));
+  Sampler big = zsobol(9u, 64u, 64u, 1u);  // one sample per pixel: n pixels
+  auto seq = [&](uint32_t bounce, uint32_t dim, bool y) {
+    std::vector<double> v(n);
+    for (int p = 0; p < n; ++p) {
+      float2 u = rng_2d(big, uint32_t(p), 0u, bounce, dim);
+      v[size_t(p)] = y ? u.y : u.x;
+    }
+    return v;
+  };
+  EXPECT_LT(std::fabs(correlation(seq(0, AW_DIM_LOBE, false), seq(0, AW_DIM_RR, false))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(0, AW_DIM_BSDF, false), seq(1, AW_DIM_BSDF, false))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(0, AW_DIM_BSDF, true), seq(0, AW_DIM_LIGHT, true))), bound);
+  EXPECT_LT(std::fabs(correlation(seq(2, AW_DIM_CAMERA, false), seq(2, AW_DIM_CAMERA, true))), bound);
+  for (uint32_t i = 0; i < 48; ++i) {
+    float2 a = rng_2d(z, 12345u, i, 2u, AW_DIM_LIGHT);
+    EXPECT_EQ(rng_1d(z, 12345u, i, 2u, AW_DIM_LIGHT), a.x);
+    EXPECT_EQ(rng_2d(z, 12345u, i, 2u, AW_DIM_LIGHT).y, a.y);
+  }
+}
+
+TEST(ZSobolPrimitives, MortonAndPermutations) {
+  EXPECT_EQ(morton2(0u, 0u), 0u);
+  EXPECT_EQ(morton2(1u, 0u), 1u);
+  EXPECT_EQ(morton2(0u, 1u), 2u);
+  EXPECT_EQ(morton2(3u, 5u), 0x27u);  // x = 011, y = 101 -> y2 x2 y1 x1 y0 x0 = 100111
+  EXPECT_EQ(morton2(0xffffu, 0xffffu), 0xffffffffu);
+  EXPECT_EQ(morton2(0xffffu, 0u), 0x55555555u);
+  // The 24 table entries are the 24 distinct permutations of {0, 1, 2, 3}.
+  std::vector<uint32_t> codes;
+  for (uint32_t p = 0; p < 24u; ++p) {
+    uint32_t code = 0, used = 0;
+    for (uint32_t d = 0; d < 4u; ++d) {
+      uint32_t e = base4_permute(p, d);
+      used |= 1u << e;
+      code |= e << (2u * d);
+    }
+    EXPECT_EQ(used, 0xfu) << p;
+    codes.push_back(code);
+  }
+  std::sort(codes.begin(), codes.end());
+  EXPECT_EQ(std::unique(codes.begin(), codes.end()), codes.end());
+  EXPECT_EQ(base4_permute(0u, 2u), 2u);   // the identity first
+  EXPECT_EQ(base4_permute(23u, 0u), 3u);  // 3 2 1 0 last
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// render.sampler (kernels/common/rng.h) end to end: the Sobol' sampler converges to the same
+// render.sampler (kernels/common/rng.h) end to end: the Sobol' samplers converge to the same
 // image as the independent one, both renderers draw the same numbers with either, and the
 // scene key is validated.
 #include <gtest/gtest.h>
@@ -34,13 +34,20 @@ aw::Scene cornell(const std::string& sampler, int spp, int seed, int size) {
 TEST(Sampler, SceneKeyChoosesTheSampler) {
   EXPECT_EQ(aw::pack_scene(aw::load_scene(src("scenes/cornell.json")), nullptr).params.sampler, AW_SAMPLER_SOBOL);
   EXPECT_EQ(aw::pack_scene(cornell("independent", 1, 0, 8), nullptr).params.sampler, AW_SAMPLER_INDEPENDENT);
+  // zsobol also gets its index layout: 48 spp -> blocks of 2^6, a 100 x 60 image inside 128^2.
+  aw::Scene z = aw::load_scene(src("scenes/cornell.json"), {"render.width=100", "render.height=60",
+                                                            "render.spp=48", "render.sampler=zsobol"});
+  RenderParams zp = aw::pack_scene(z, nullptr).params;
+  EXPECT_EQ(zp.sampler, AW_SAMPLER_ZSOBOL);
+  EXPECT_EQ(zp.sampler_log2_spp, 6u);
+  EXPECT_EQ(zp.sampler_bits, 2u * 7u + 6u);
   try {
     cornell("halton", 1, 0, 8);
     FAIL() << "an unknown sampler was accepted";
   } catch (const aw::SceneError& e) {
     std::string m = e.what();
     EXPECT_NE(m.find("render.sampler"), std::string::npos) << m;
-    EXPECT_NE(m.find("sobol, independent"), std::string::npos) << m;
+    EXPECT_NE(m.find("sobol, zsobol, independent"), std::string::npos) << m;
   }
 }
 
@@ -55,10 +62,20 @@ TEST(Sampler, SobolIsUnbiasedAgainstIndependent) {
   EXPECT_LT(std::fabs(z), 3.89);
 }
 
+// The same for zsobol. Its pixels are not independent (neighbours' errors are anti-correlated
+// on purpose), which makes the true standard error of the mean difference smaller than
+// sd / sqrt(N): the test is conservative (it rejects less often than 1e-4), never too strict.
+TEST(Sampler, ZSobolIsUnbiasedAgainstIndependent) {
+  aw::RenderResult a = aw::render_wavefront(cornell("zsobol", 64, 1, 64), quiet());
+  aw::RenderResult b = aw::render_wavefront(cornell("independent", 64, 2, 64), quiet());
+  double z = aw_test::mean_difference_z(a, b, "zsobol vs independent");
+  EXPECT_LT(std::fabs(z), 3.89);
+}
+
 // With either sampler the wavefront and the scalar path consume the same numbers, so they
 // agree per pixel (the threshold of KernelVsScalar.CornellBoxAgreesPerPixel).
 TEST(Sampler, KernelAndScalarAgreePerPixelWithEither) {
-  for (const char* sampler : {"sobol", "independent"}) {
+  for (const char* sampler : {"sobol", "zsobol", "independent"}) {
     aw::Scene s = cornell(sampler, 8, 3, 48);
     aw::RenderResult w = aw::render_wavefront(s, quiet()), c = aw::render_scalar(s, quiet());
     size_t agree = 0, n = w.count.size();
