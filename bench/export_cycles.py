@@ -29,8 +29,9 @@ Conventions, each checked against archwave by the race (scripts/archwave_bench/r
   I = P / (4 pi), radiance of a point light of radius r: P / (4 pi^2 r^2).
 - Lights are made visible to the camera (Blender hides them by default).
 - Surfaces are two-sided in Cycles, as in archwave. Glass tells inside from outside by the
-  geometric normal (the winding): boxes and spheres are wound outwards. Spheres are archwave's
-  own tessellation (128 x 64 by default) with its vertex normals (custom split normals).
+  geometric normal (the winding): boxes and spheres are wound outwards. Every object is
+  archwave's own triangles (`archwave SCENE --export-geometry`, race_scene.read_geometry) with
+  its vertex normals (custom split normals).
 - Roughness: Cycles' roughness r has alpha = r^2.
 """
 
@@ -303,11 +304,13 @@ def main(argv):
     ap.add_argument("--result", default=None)
     ap.add_argument("--width", type=int)
     ap.add_argument("--height", type=int)
+    ap.add_argument("--geometry", required=True,
+                    help="the OBJ `archwave SCENE --export-geometry FILE` wrote: archwave's own triangles")
     ap.add_argument("--job", action="append", default=[], help="NAME:SPP:SEED")
     ap.add_argument("--t0", type=float, default=None)
     args = ap.parse_args(argv)
     try:
-        d = race_scene.describe(args.scene, args.width, args.height)
+        d = race_scene.describe(args.scene, args.width, args.height, args.geometry)
         t0 = time.perf_counter()
         build(d)
         t_build = time.perf_counter() - t0

@@ -160,13 +160,15 @@ def main(argv):
     ap.add_argument("--result", default=None)
     ap.add_argument("--width", type=int)
     ap.add_argument("--height", type=int)
+    ap.add_argument("--geometry", required=True,
+                    help="the OBJ `archwave SCENE --export-geometry FILE` wrote: archwave's own triangles")
     ap.add_argument("--variant", default="llvm_ad_rgb")
     ap.add_argument("--job", action="append", default=[], help="NAME:SAMPLER:SPP:SEED")
     ap.add_argument("--t0", type=float, default=None, help="epoch seconds when the caller started this process")
     ap.add_argument("--dict", action="store_true", help="print the scene dictionary and exit")
     args = ap.parse_args(argv)
     try:
-        d = race_scene.describe(args.scene, args.width, args.height)
+        d = race_scene.describe(args.scene, args.width, args.height, args.geometry)
     except race_scene.Unsupported as e:
         print(f"export_mitsuba: {args.scene}: {e}", file=sys.stderr)
         return 3

@@ -8,9 +8,10 @@ Fresnel; quads, boxes, spheres (and OBJ meshes, passed through); point, quad and
 a constant environment. Anything else is refused with Unsupported, whose message names the
 key. Values are clamped to archwave's ranges as archwave's loader clamps them.
 
-  describe(path, width=None, height=None) -> dict (see the end of this file)
-  triangles(obj) -> (positions, normals or None, faces): an object's world-space mesh, the same
-                    tessellation archwave builds (host/scene/geometry.cpp)
+  describe(path, width=None, height=None, geometry=None) -> dict (see the end of this file)
+  triangles(obj) -> (positions, normals or None, triangles): an object's world-space mesh,
+                    archwave's own, read from the OBJ `archwave SCENE --export-geometry FILE`
+                    writes (read_geometry); nothing here tessellates a shape again
 """
 
 import json
@@ -72,25 +73,6 @@ def mat_mul(a, b):
 
 def transform_point(m, p):
     return [m[i][0] * p[0] + m[i][1] * p[1] + m[i][2] * p[2] + m[i][3] for i in range(3)]
-
-
-def transform_vector(m, v):
-    return [m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2] for i in range(3)]
-
-
-def det3(m):
-    return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
-
-
-def normal_matrix(m):
-    """Inverse transpose of the 3x3 part."""
-    d = det3(m)
-    c = [[(m[(j + 1) % 3][(i + 1) % 3] * m[(j + 2) % 3][(i + 2) % 3]
-           - m[(j + 1) % 3][(i + 2) % 3] * m[(j + 2) % 3][(i + 1) % 3]) / d for j in range(3)] for i in range(3)]
-    # c is the inverse (adjugate / det); its transpose:
-    return [[c[j][i] for j in range(3)] for i in range(3)]
 
 
 def cross(a, b):
@@ -337,9 +319,10 @@ def _object(i, o, base_dir, materials):
     raise Unsupported(f"{where}.shape: {json.dumps(shape)} is not exported (quad, box, sphere, mesh are)")
 
 
-def describe(path, width=None, height=None):
-    """The scene at `path` as the exporters' description; width/height override render.*.
-    Raises Unsupported naming the first key outside the subset."""
+def describe(path, width=None, height=None, geometry=None):
+    """The scene at `path` as the exporters' description; width/height override render.*;
+    `geometry`, the OBJ archwave --export-geometry wrote for it, gives each object its mesh
+    (triangles()). Raises Unsupported naming the first key outside the subset."""
     with open(path) as f:
         s = json.load(f)
     _only_keys(s, ("render", "camera", "environment", "lights", "textures", "materials", "objects"), "scene")
@@ -374,8 +357,18 @@ def describe(path, width=None, height=None):
                         for x in _colour(env.get("color", 0.0), "environment.color")],
         "lights": [_light(i, l) for i, l in enumerate(s.get("lights") or [])],
         "materials": mats,
-        "objects": [_object(i, o, base, mats) for i, o in enumerate(s.get("objects") or [])],
+        "objects": _with_meshes([_object(i, o, base, mats) for i, o in enumerate(s.get("objects") or [])],
+                                geometry),
     }
+
+
+def _with_meshes(objects, geometry):
+    if geometry is None:
+        return objects
+    meshes = read_geometry(geometry)
+    if sorted(meshes) != list(range(len(objects))):
+        raise ValueError(f"{geometry}: meshes for objects {sorted(meshes)}, the scene has {len(objects)}")
+    return [dict(o, mesh=meshes[i]) for i, o in enumerate(objects)]
 
 
 def job_spp(token, done, lo=16, hi=8192):
@@ -393,120 +386,49 @@ def job_spp(token, done, lo=16, hi=8192):
 
 # ---------------------------------------------------------------------------- geometry
 
-def _box_local(lo, hi):
-    """archwave's box (host/scene/geometry.cpp make_box): 6 faces of 4 corners, u x v outward."""
-    faces = [(0, -1, 2, +1, 1, +1), (0, +1, 2, -1, 1, +1), (1, -1, 0, +1, 2, +1),
-             (1, +1, 0, +1, 2, -1), (2, -1, 0, -1, 1, +1), (2, +1, 0, +1, 1, +1)]
-    pos, nrm, quads = [], [], []
-    for axis, sign, ua, us, va, vs in faces:
-        base = len(pos)
-        n = [0.0, 0.0, 0.0]
-        n[axis] = float(sign)
-        for cu, cv in ((0, 0), (1, 0), (1, 1), (0, 1)):
-            p = [0.0, 0.0, 0.0]
-            p[axis] = hi[axis] if sign > 0 else lo[axis]
-            p[ua] = hi[ua] if (us > 0) == (cu == 1) else lo[ua]
-            p[va] = hi[va] if (vs > 0) == (cv == 1) else lo[va]
-            pos.append(p)
-            nrm.append(n)
-        quads.append([base, base + 1, base + 2, base + 3])
-    return pos, nrm, quads
-
-
-def _sphere_local(c, r, su, sv):
-    """archwave's UV sphere (make_sphere): smooth normals, pole triangles left out."""
-    pos, nrm, tris = [], [], []
-    for j in range(sv + 1):
-        v = j / sv
-        st, ct = math.sin(math.pi * v), math.cos(math.pi * v)
-        if j in (0, sv):
-            st = 0.0
-        for i in range(su + 1):
-            phi = 2.0 * math.pi * (i % su) / su
-            d = [st * math.cos(phi), -ct, -st * math.sin(phi)]
-            pos.append([c[k] + r * d[k] for k in range(3)])
-            nrm.append(d)
-
-    def idx(i, j):
-        return j * (su + 1) + i
-    for j in range(sv):
-        for i in range(su):
-            a, b, cc, d = idx(i, j), idx(i + 1, j), idx(i + 1, j + 1), idx(i, j + 1)
-            if j != 0:
-                tris.append([a, b, cc])
-            if j != sv - 1:
-                tris.append([a, cc, d])
-    return pos, nrm, tris
-
-
-def read_obj(path):
-    """(positions, normals or None, faces as index lists) of an OBJ: each distinct
-    (position, normal) corner becomes one vertex, in order of first use (as archwave's loader);
-    normals are kept only when every corner has one. Polygons are fanned into triangles."""
-    vs, vns, corners = [], [], []
+def read_geometry(path):
+    """{object index: (positions, normals or None, triangles)} from the OBJ that
+    `archwave SCENE --export-geometry PATH` writes (host/scene/export_obj.h): archwave's own
+    tessellation, transforms and winding, so no shape is tessellated twice. Its groups are
+    named after the objects ("objects[3] (sphere)"); normals, where present, are per vertex
+    and indexed like the positions within a group."""
+    groups, vs, vns = {}, [], []
+    cur = None
     with open(path) as f:
         for line in f:
             t = line.split()
-            if not t:
+            if not t or t[0] == "#":
                 continue
-            if t[0] == "v":
+            if t[0] == "o":
+                name = line[2:].strip()
+                if not name.startswith("objects["):
+                    raise ValueError(f"{path}: unexpected group {name!r}")
+                cur = {"v0": len(vs), "n0": len(vns), "tris": [], "smooth": False}
+                groups[int(name[len("objects["):name.index("]")])] = cur
+            elif t[0] == "v":
                 vs.append([float(x) for x in t[1:4]])
             elif t[0] == "vn":
                 vns.append([float(x) for x in t[1:4]])
             elif t[0] == "f":
-                face = []
-                for c in t[1:]:
-                    parts = c.split("/")
-                    vi = int(parts[0])
-                    ni = int(parts[2]) if len(parts) > 2 and parts[2] else 0
-                    face.append((vi - 1 if vi > 0 else len(vs) + vi,
-                                 (ni - 1 if ni > 0 else len(vns) + ni) if ni else None))
-                corners.append(face)
-    with_normals = bool(corners) and all(n is not None for face in corners for _, n in face)
-    index, pos, nrm, faces = {}, [], [], []
-    for face in corners:
-        ids = []
-        for vi, ni in face:
-            key = (vi, ni if with_normals else None)
-            if key not in index:
-                index[key] = len(pos)
-                pos.append(vs[vi])
-                if with_normals:
-                    nrm.append(vns[ni])
-            ids.append(index[key])
-        for k in range(1, len(ids) - 1):
-            faces.append([ids[0], ids[k], ids[k + 1]])
-    return pos, (nrm if with_normals else None), faces
+                corners = [c.split("//") for c in t[1:4]]
+                cur["smooth"] = len(corners[0]) == 2
+                cur["tris"].append([int(c[0]) - 1 - cur["v0"] for c in corners])
+    out, ends = {}, sorted(groups.items(), key=lambda kv: kv[1]["v0"])
+    for n, (idx, g) in enumerate(ends):
+        v1 = ends[n + 1][1]["v0"] if n + 1 < len(ends) else len(vs)
+        count = v1 - g["v0"]
+        nrm = vns[g["n0"]:g["n0"] + count] if g["smooth"] else None
+        out[idx] = (vs[g["v0"]:v1], nrm, g["tris"])
+    return out
 
 
 def triangles(obj):
-    """(positions, normals or None, faces) of an object in world space, faces being index
-    lists (quads for quads and boxes, triangles otherwise) wound counter-clockwise seen from the
-    side the normal points to; None normals = flat shading."""
-    shape, m = obj["shape"], obj["matrix"]
-    flat = True
-    if shape == "quad":
-        c, u, v = obj["corner"], obj["edge_u"], obj["edge_v"]
-        pos = [c, [c[k] + u[k] for k in range(3)], [c[k] + u[k] + v[k] for k in range(3)],
-               [c[k] + v[k] for k in range(3)]]
-        nrm, faces = None, [[0, 1, 2, 3]]
-    elif shape == "box":
-        pos, nrm, faces = _box_local(obj["min"], obj["max"])
-        nrm = None
-    elif shape == "sphere":
-        pos, nrm, faces = _sphere_local(obj["center"], obj["radius"], *obj["segments"])
-        flat = False
-    else:
-        pos, nrm, faces = read_obj(obj["file"])
-        flat = nrm is None
-    wpos = [transform_point(m, p) for p in pos]
-    wnrm = None
-    if not flat:
-        nm = normal_matrix(m)
-        wnrm = [normalize([sum(nm[i][j] * n[j] for j in range(3)) for i in range(3)]) for n in nrm]
-    if det3(m) < 0:  # a mirroring transform: reverse the winding (archwave does the same)
-        faces = [list(reversed(f)) for f in faces]
-    return wpos, wnrm, faces
+    """(positions, normals or None, triangles) of an object in world space, as archwave builds
+    it (read_geometry), wound counter-clockwise seen from the side the geometric normal
+    points to; None normals = flat shading."""
+    if "mesh" not in obj:
+        raise Unsupported(f"{obj['where']}: no geometry: describe() needs the OBJ of archwave --export-geometry")
+    return obj["mesh"]
 
 
 # The description (describe's result):

@@ -22,6 +22,7 @@
 #include "host/film/progress.h"
 #include "host/render/render.h"
 #include "host/render/stats_json.h"
+#include "host/scene/export_obj.h"
 #include "host/scene/scene.h"
 
 namespace {
@@ -109,6 +110,10 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Threads for --scalar (default: all cores)");
   app.add_flag("--no-progress", no_progress, "No progress line (it is also off when stderr is not a terminal)");
   app.add_flag("-q,--quiet", quiet, "No stats summary");
+  std::string export_geometry;
+  app.add_option("--export-geometry", export_geometry,
+                 "Write the scene's triangles as archwave builds them (world space, an OBJ group per "
+                 "object) to this file and exit without rendering");
   app.add_option("--stats-json", stats_json,
                  "Also write the render's stats (times, stages, rays, memory) as JSON to this file");
   try {
@@ -134,6 +139,12 @@ int main(int argc, char** argv) {
     if (app.count("--width")) overrides.push_back("render.width=" + width);
     if (app.count("--height")) overrides.push_back("render.height=" + height);
     aw::Scene scene = aw::load_scene(scene_path, overrides);
+    if (!export_geometry.empty()) {
+      aw::write_geometry_obj(scene, export_geometry);
+      std::cerr << "wrote " << export_geometry << " (" << scene.meshes.size() << " meshes, "
+                << scene.triangle_count() << " triangles)\n";
+      return kOk;
+    }
 
     if (output.empty()) output = default_output(scene_path);
     check_output_writable(output);

@@ -174,12 +174,21 @@ def run_archwave(ctx, scene, ladder, ref_want, ref_seconds):
     ref_var = ((top - ref) @ LUMA) ** 2 * (s / big_r) / (1 + s / big_r)
     points = [{"spp": spp, "seconds": r.seconds, "wall": r.wall, "image": read_exr(r.exr)}
               for spp, r in zip(ladder, renders)]
-    top_r = renders[-1]
-    startup = {"kernel build": top_r.stats["compile_seconds"], "BVH build": top_r.stats.get("bvh_seconds"),
-               "rest": top_r.wall - top_r.seconds - top_r.stats["compile_seconds"] - top_r.stats.get("bvh_seconds", 0),
-               "process wall": top_r.wall}
-    return {"points": points, "startup": startup, "ref": ref, "ref_var": ref_var, "ref_meta": ref_meta,
-            "stats": renders[-1].stats}
+    # The scalar path (host C++ from the same kernel headers, Embree rays, all cores): the same
+    # numbers, so the same image per spp to rounding, at the host's speed. Reported beside the
+    # wavefront, which stays the renderer the targets are judged on (the CLI's default).
+    scalar = [ctx.render_scene(scene, f"race_{scene.key}_aws_{spp}", spp, scalar=True) for spp in ladder]
+    scalar_points = [{"spp": spp, "seconds": r.seconds, "wall": r.wall, "image": read_exr(r.exr)}
+                     for spp, r in zip(ladder, scalar)]
+    return {"points": points, "startup": _startup(renders[-1]), "ref": ref, "ref_var": ref_var,
+            "ref_meta": ref_meta, "stats": renders[-1].stats,
+            "scalar_points": scalar_points, "scalar_startup": _startup(scalar[-1])}
+
+
+def _startup(r):
+    return {"kernel build": r.stats["compile_seconds"], "BVH build": r.stats.get("bvh_seconds"),
+            "rest": r.wall - r.seconds - r.stats["compile_seconds"] - r.stats.get("bvh_seconds", 0),
+            "process wall": r.wall}
 
 
 def _peer_process(ctx, argv, env, result, label):
@@ -206,6 +215,16 @@ def _converged(points, halves):
     return img, var_half * halves[0]["spp"] / total, total
 
 
+def export_geometry(ctx, scene, work):
+    """archwave's own triangles of the scene, for the exporters (host/scene/export_obj.h)."""
+    path = os.path.join(work, "geometry.obj")
+    argv = [ctx.tools.archwave, scene.path, "--export-geometry", path]
+    for d in scene.defines:
+        argv += ["-D", d]
+    ctx.tools.run(argv)
+    return path
+
+
 def run_cycles(ctx, scene, ladder, check_seconds, work):
     out = os.path.join(work, "cycles")
     result = os.path.join(out, "result.json")
@@ -213,7 +232,8 @@ def run_cycles(ctx, scene, ladder, check_seconds, work):
     jobs += [f"c{k}:fit{check_seconds / 2:g}:{101 + k}" for k in range(2)]
     argv = [blender(), "-b", "--factory-startup", "--debug-cycles", "--python-exit-code", "3",
             "--python", EXPORT_CYCLES, "--", scene.path, "--out", out, "--result", result,
-            "--width", str(scene.width), "--height", str(scene.height)]
+            "--width", str(scene.width), "--height", str(scene.height),
+            "--geometry", os.path.join(work, "geometry.obj")]
     for j in jobs:
         argv += ["--job", j]
     res = _peer_process(ctx, argv, None, result, f"cycles {scene.key}")
@@ -232,7 +252,8 @@ def run_mitsuba(ctx, scene, ladder, check_seconds, work):
                  for i, spp in enumerate(ladder)]
     jobs += [f"c{k}:multijitter:fit{check_seconds / 2:g}:{201 + k}" for k in range(2)]
     argv = [mitsuba_python(), EXPORT_MITSUBA, scene.path, "--out", out, "--result", result,
-            "--width", str(scene.width), "--height", str(scene.height)]
+            "--width", str(scene.width), "--height", str(scene.height),
+            "--geometry", os.path.join(work, "geometry.obj")]
     for j in jobs:
         argv += ["--job", j]
     res = _peer_process(ctx, argv, mitsuba_env(), result, f"mitsuba {scene.key}")
@@ -277,7 +298,9 @@ def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, che
     os.makedirs(work, exist_ok=True)
     log(f"race: {scene.key}: archwave")
     aw = run_archwave(ctx, scene, ladder, ref_want, ref_seconds)
-    rows = {"archwave": {"points": aw["points"], "meta": {"startup": aw["startup"]}}}
+    export_geometry(ctx, scene, work)
+    rows = {"archwave": {"points": aw["points"], "meta": {"startup": aw["startup"]}},
+            "archwave_scalar": {"points": aw["scalar_points"], "meta": {"startup": aw["scalar_startup"]}}}
     checks, failures = {}, {}
     for name, runner in (("cycles", run_cycles), ("mitsuba", run_mitsuba)):
         if peers.get(name):
@@ -319,7 +342,8 @@ def measure(ctx):
 
 # ---------------------------------------------------------------------------- the report
 
-LABELS = {"archwave": "archwave (wavefront)", "cycles": "Cycles", "mitsuba_multijitter": "Mitsuba 3, multijitter",
+LABELS = {"archwave": "archwave (wavefront)", "archwave_scalar": "archwave (scalar path: host C++, Embree rays)",
+          "cycles": "Cycles", "mitsuba_multijitter": "Mitsuba 3, multijitter",
           "mitsuba_independent": "Mitsuba 3, independent"}
 PEER_OF = {"cycles": "cycles", "mitsuba_multijitter": "mitsuba", "mitsuba_independent": "mitsuba"}
 
@@ -371,7 +395,7 @@ def check_table(res):
 def _startup_cells(name, row):
     meta = row["meta"]
     s = meta["startup"]
-    if name == "archwave":
+    if name.startswith("archwave"):
         return [f"kernel build {fmt(s['kernel build'])} (after a warm-up render), BVH build {fmt(s['BVH build'])}, "
                 f"rest of the process {fmt(s['rest'])}", fmt(s["process wall"])]
     if name == "cycles":
@@ -413,16 +437,20 @@ def plot(ctx, res):
     return name
 
 
-def target_line(scenes):
+def target_line(scenes, row="archwave", what_aw=None):
     """Issue 11's target (archwave's time to equal error at most Cycles') and ambition (at
-    most the better Mitsuba sampler's), over the scenes that ran, from the main tables."""
+    most the better Mitsuba sampler's), over the scenes that ran, from the main tables; for
+    archwave's row `row` (the wavefront: the renderer the targets are judged on)."""
     def ratio(res, peer, k):
-        t_aw = res["rows"]["archwave"]["to"][k][0]
+        t_aw = res["rows"][row]["to"][k][0]
         ts = [row["to"][k][0] for name, row in res["rows"].items() if name.startswith(peer) and _trusted(res, name)]
         ts = [t for t in ts if math.isfinite(t)]
         return t_aw / min(ts) if ts and math.isfinite(t_aw) else None
     out = []
-    for peer, what in (("cycles", "Target: at most Cycles'"), ("mitsuba", "Ambition: at most Mitsuba 3's (best sampler)")):
+    pairs = (("cycles", "Target: at most Cycles'"), ("mitsuba", "Ambition: at most Mitsuba 3's (best sampler)"))
+    if what_aw:
+        pairs = tuple((p, f"{what_aw}: at most {w.split('at most ', 1)[1]}") for p, w in pairs)
+    for peer, what in pairs:
         vals = [(res["scene"].key, k, ratio(res, peer, k)) for res in scenes if "rows" in res
                 for k in ("rmse", "relmse")]
         known = [v for v in vals if v[2] is not None]
@@ -498,6 +526,9 @@ def render(ctx, data):
     if skipped:
         md.append("**Peers skipped:** " + "; ".join(skipped) + ".\n")
     md.append(target_line(data["scenes"]))
+    md.append("For information, the same with archwave's scalar path (the cross-check renderer: the same "
+              "kernel headers compiled for the host, Embree rays, all cores; not the CLI's default):\n")
+    md.append(target_line(data["scenes"], row="archwave_scalar", what_aw="Scalar path"))
     for res in data["scenes"]:
         md += render_scene(ctx, res, data["peers"])
     return "\n".join(md)
