@@ -1,5 +1,6 @@
 #include "host/cl/cl_runtime.h"
 
+#include <cctype>
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
@@ -74,6 +75,32 @@ std::vector<DeviceInfo> list_devices() {
   }
   if (out.empty()) throw ClError(std::string("OpenCL platforms exist but expose no device; ") + kInstallHint);
   return out;
+}
+
+int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devices) {
+  const bool digits = !spec.empty() && spec.find_first_not_of("0123456789") == std::string::npos;
+  if (digits) {
+    if (spec.size() < 10) {
+      int i = std::stoi(spec);
+      if (i < int(devices.size())) return i;
+    }
+    throw ClError("--device " + spec + ": no such OpenCL device; available:\n" + describe_devices(devices));
+  }
+  auto lower = [](std::string t) {
+    for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  const std::string want = lower(spec);
+  std::vector<DeviceInfo> hits;
+  for (const auto& d : devices)
+    if (!want.empty() && lower(d.platform + " " + d.name + " " + d.type + " " + d.version).find(want) != std::string::npos)
+      hits.push_back(d);
+  if (hits.size() == 1) return hits[0].index;
+  if (hits.empty())
+    throw ClError("--device \"" + spec + "\": no OpenCL device's platform, name, type or version contains it; available:\n" +
+                  describe_devices(devices));
+  throw ClError("--device \"" + spec + "\" matches " + std::to_string(hits.size()) +
+                " devices; give a longer name or the index:\n" + describe_devices(hits));
 }
 
 std::string describe_devices(const std::vector<DeviceInfo>& devices) {

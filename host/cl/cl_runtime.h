@@ -37,6 +37,12 @@ struct DeviceInfo {
 std::vector<DeviceInfo> list_devices();
 std::string describe_devices(const std::vector<DeviceInfo>& devices);
 
+// What --device names: an index from --list-devices ("1"), or a case-insensitive substring of
+// the platform, device name, type and version ("pocl": PoCL's version string names it;
+// "intel", "gpu") that matches exactly one device. Throws ClError naming the flag's value and listing the devices when the index is
+// out of range or the substring matches none or several (then it lists those).
+int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devices);
+
 // One device with a context and an in-order queue.
 class ClRuntime {
  public:

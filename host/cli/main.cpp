@@ -68,7 +68,8 @@ int main(int argc, char** argv) {
   // Flags are kept as text and handed to the scene loader as overrides, so "--spp -1" or
   // "--width 0" is rejected with the same message as in a scene file.
   std::string spp, width, height, seed;
-  int device = 0, threads = 0;
+  std::string device = "0";
+  int threads = 0;
   bool scalar = false, list = false, quiet = false, no_progress = false, generic = false;
   std::vector<std::string> defines;
   std::string kernel_dir = aw::default_kernel_dir();
@@ -80,7 +81,9 @@ int main(int argc, char** argv) {
   app.add_option("--seed", seed, "Random seed, 0..2^32-1 (overrides render.seed)");
   app.add_option("--width", width, "Image width in pixels (overrides render.width)");
   app.add_option("--height", height, "Image height in pixels (overrides render.height)");
-  app.add_option("--device", device, "OpenCL device index from --list-devices (default 0)");
+  app.add_option("--device", device,
+                 "OpenCL device: an index from --list-devices, or a case-insensitive part of its platform, name "
+                 "or type that names one device, e.g. pocl, intel, gpu (default 0)");
   app.add_flag("--scalar", scalar, "Render with the host scalar path (Embree rays, same kernel headers)");
   app.add_flag("--list-devices", list, "List OpenCL platforms and devices, then exit");
   app.add_flag("--generic-kernels", generic,
@@ -151,7 +154,7 @@ int main(int argc, char** argv) {
     if (!stats_json.empty()) check_output_writable(stats_json);
 
     aw::RenderOptions opts;
-    opts.device = device;
+    if (!scalar) opts.device = aw::resolve_device(device, aw::list_devices());
     opts.pool_size = pool;
     opts.dense_fraction = dense_fraction;
     opts.generic_kernels = generic;

@@ -80,3 +80,52 @@ TEST(ClRuntime, NoPlatformSaysHowToInstallPoCL) {
 }
 
 }  // namespace
+
+// --device by index or by a part of the name (resolve_device), on a made-up device list so
+// that the matching rules are tested whatever this machine has.
+namespace {
+std::vector<aw::DeviceInfo> fake_devices() {
+  std::vector<aw::DeviceInfo> v(3);
+  v[0].index = 0, v[0].platform = "Intel(R) OpenCL", v[0].name = "AMD EPYC", v[0].type = "CPU";
+  v[0].version = "OpenCL 3.0 (Build 0)";
+  v[1].index = 1, v[1].platform = "Portable Computing Language", v[1].name = "pthread-haswell-AMD EPYC",
+  v[1].type = "CPU", v[1].version = "OpenCL 3.0 PoCL HSTR: pthread-x86_64-pc-linux-gnu-haswell";
+  v[2].index = 2, v[2].platform = "NVIDIA CUDA", v[2].name = "NVIDIA H200", v[2].type = "GPU";
+  return v;
+}
+std::string resolve_error(const std::string& spec) {
+  try {
+    aw::resolve_device(spec, fake_devices());
+  } catch (const aw::ClError& e) {
+    return e.what();
+  }
+  return "<resolved>";
+}
+}  // namespace
+
+TEST(DeviceChoice, IndexOrUniqueCaseInsensitiveSubstring) {
+  const auto d = fake_devices();
+  EXPECT_EQ(aw::resolve_device("0", d), 0);
+  EXPECT_EQ(aw::resolve_device("2", d), 2);
+  EXPECT_EQ(aw::resolve_device("intel", d), 0);
+  EXPECT_EQ(aw::resolve_device("PoCL", d), 1);  // from PoCL's version string
+  EXPECT_EQ(aw::resolve_device("gpu", d), 2);
+  EXPECT_EQ(aw::resolve_device("h200", d), 2);
+}
+
+TEST(DeviceChoice, BadChoicesAreRefusedWithTheList) {
+  std::string e = resolve_error("3");
+  EXPECT_NE(e.find("--device 3: no such OpenCL device"), std::string::npos) << e;
+  EXPECT_NE(e.find("[2] NVIDIA H200"), std::string::npos) << e;
+  e = resolve_error("99999999999999");
+  EXPECT_NE(e.find("no such OpenCL device"), std::string::npos) << e;
+  e = resolve_error("amd");  // two CPUs: ambiguous, and the message lists only those two
+  EXPECT_NE(e.find("matches 2 devices"), std::string::npos) << e;
+  EXPECT_NE(e.find("[0] AMD EPYC"), std::string::npos) << e;
+  EXPECT_EQ(e.find("H200"), std::string::npos) << e;
+  e = resolve_error("radeon");
+  EXPECT_NE(e.find("no OpenCL device's platform, name, type or version contains it"), std::string::npos) << e;
+  e = resolve_error("-1");
+  EXPECT_NE(e.find("-1"), std::string::npos) << e;
+  EXPECT_NE(resolve_error("").find("no OpenCL device"), std::string::npos);
+}

@@ -138,6 +138,22 @@ TEST(CliBadInput, BadDeviceIndexListsDevices) {
   EXPECT_NE(r.err.find("[0]"), std::string::npos) << "the message should list the devices: " << r.err;
 }
 
+TEST(CliBadInput, UnknownDeviceNameListsDevices) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  CliRun r = run(scene + " --device no-such-device -o " + scratch() + "/x.exr");
+  EXPECT_EQ(r.code, 4) << r.err;
+  EXPECT_NE(r.err.find("no-such-device"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("[0]"), std::string::npos) << "the message should list the devices: " << r.err;
+}
+
+// PoCL is the device the suite is defined on: it can be named.
+TEST(Cli, DeviceByName) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  CliRun r = run(scene + " --device pocl -o " + scratch() + "/byname.exr");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("Portable Computing Language"), std::string::npos) << r.err;
+}
+
 TEST(CliBadInput, UnwritableOutputFailsBeforeRendering) {
   std::string scene = write_scene("ok.json", kMinimal);
   CliRun r = run(scene + " -o /nonexistent_dir_archwave/x.exr");
