@@ -130,7 +130,7 @@ TEST(SphericalRectangle, FarLightsAndParallelogramsAreSampledByArea) {
   const LightGpu rect = quad_light({-0.5f, 0.0f, -0.5f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, true);
   SphRect r;
   EXPECT_TRUE(light_quad_by_solid_angle(&rect, glm::vec3(0.0f, -0.5f, 0.0f), &r));   // S = 2.06 sr
-  EXPECT_FALSE(light_quad_by_solid_angle(&rect, glm::vec3(0.0f, -1.0f, 0.0f), &r));  // A / h^2 = 1 passes the bound, S = 0.80 sr does not
+  EXPECT_FALSE(light_quad_by_solid_angle(&rect, glm::vec3(0.0f, -1.0f, 0.0f), &r));  // the bound passes (A h / d^3 = 1), S = 0.80 sr does not
   EXPECT_FALSE(light_quad_by_solid_angle(&rect, glm::vec3(0.0f, -20.0f, 0.0f), &r));  // S ~ 2.5e-3 sr
   glm::vec3 far(0.1f, -20.0f, 0.2f);
   LightSample s = light_sample(&rect, far, float2(0.3f, 0.6f));
@@ -139,6 +139,30 @@ TEST(SphericalRectangle, FarLightsAndParallelogramsAreSampledByArea) {
   EXPECT_NEAR(y.z, 0.1f, 1e-4f);
   const LightGpu skew = quad_light({-0.5f, 0.0f, -0.5f}, {1.0f, 0.0f, 0.0f}, {0.5f, 0.0f, 1.0f}, false);
   EXPECT_FALSE(light_quad_by_solid_angle(&skew, glm::vec3(0.0f, -1.0f, 0.0f), &r));
+}
+
+// The cheap bound that skips the exact solid angle (S <= A |h| / d^3, d the distance to the
+// nearest point of the rectangle) never skips a rectangle the exact S would take: over
+// points all around a light, the decision equals the exact one, S in (1 sr, 2 pi - 1e-2).
+TEST(SphericalRectangle, TheBoundSkipsOnlyWhatTheExactSolidAngleRejects) {
+  const LightGpu l = quad_light({-0.5f, 0.0f, -0.3f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.6f}, true);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> uni(-2.0f, 2.0f);
+  int taken = 0, skipped_by_bound = 0;
+  for (int i = 0; i < 20000; ++i) {
+    glm::vec3 p(uni(rng), 0.5f * uni(rng), uni(rng));
+    if (std::fabs(p.y) < 1e-3f) continue;
+    SphRect exact = sph_rect_make(glm::vec3(-0.5f, 0.0f, -0.3f), glm::vec3(1, 0, 0), glm::vec3(0, 0, 0.6f), p);
+    bool want = exact.S > AW_SPH_RECT_MIN_SOLID_ANGLE && exact.S < AW_SPH_RECT_MAX_SOLID_ANGLE && std::isfinite(exact.S);
+    SphRect r;
+    bool got = light_quad_by_solid_angle(&l, p, &r) != 0;
+    ASSERT_EQ(got, want) << "p = " << p.x << " " << p.y << " " << p.z << ", S = " << exact.S;
+    taken += got;
+    // The old bound A / h^2 would have computed the exact S here:
+    skipped_by_bound += !want && l.area >= AW_SPH_RECT_MIN_SOLID_ANGLE * p.y * p.y;
+  }
+  EXPECT_GT(taken, 100);             // the test covers both outcomes
+  EXPECT_GT(skipped_by_bound, 1000);  // and many points the old bound A / h^2 let through to the exact S
 }
 
 }  // namespace
