@@ -77,14 +77,17 @@ std::vector<DeviceInfo> list_devices() {
   return out;
 }
 
-int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devices) {
+int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devices, const std::string& what) {
+  // "--device 3", "--device \"intel\"", or for a variable "ARCHWAVE_DEVICE=intel".
+  const bool var = !what.empty() && what.back() == '=';
   const bool digits = !spec.empty() && spec.find_first_not_of("0123456789") == std::string::npos;
+  const std::string label = var ? what + spec : digits ? what + " " + spec : what + " \"" + spec + "\"";
   if (digits) {
     if (spec.size() < 10) {
       int i = std::stoi(spec);
       if (i < int(devices.size())) return i;
     }
-    throw ClError("--device " + spec + ": no such OpenCL device; available:\n" + describe_devices(devices));
+    throw ClError(label + ": no such OpenCL device; available:\n" + describe_devices(devices));
   }
   auto lower = [](std::string t) {
     for (char& c : t) c = char(std::tolower(static_cast<unsigned char>(c)));
@@ -97,10 +100,10 @@ int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devic
       hits.push_back(d);
   if (hits.size() == 1) return hits[0].index;
   if (hits.empty())
-    throw ClError("--device \"" + spec + "\": no OpenCL device's platform, name, type or version contains it; available:\n" +
+    throw ClError(label + ": no OpenCL device's platform, name, type or version contains it; available:\n" +
                   describe_devices(devices));
-  throw ClError("--device \"" + spec + "\" matches " + std::to_string(hits.size()) +
-                " devices; give a longer name or the index:\n" + describe_devices(hits));
+  throw ClError(label + " matches " + std::to_string(hits.size()) + " devices; give a longer name or the index:\n" +
+                describe_devices(hits));
 }
 
 std::string describe_devices(const std::vector<DeviceInfo>& devices) {
@@ -115,6 +118,10 @@ std::string describe_devices(const std::vector<DeviceInfo>& devices) {
 
 ClRuntime::ClRuntime(int device_index) {
   auto devices = list_devices();
+  if (device_index == kDefaultDevice) {
+    const char* env = std::getenv("ARCHWAVE_DEVICE");
+    device_index = env && *env ? resolve_device(env, devices, "ARCHWAVE_DEVICE=") : 0;
+  }
   if (device_index < 0 || device_index >= int(devices.size())) {
     throw ClError("--device " + std::to_string(device_index) + ": no such OpenCL device; available:\n" +
                   describe_devices(devices));

@@ -39,13 +39,21 @@ std::string describe_devices(const std::vector<DeviceInfo>& devices);
 
 // What --device names: an index from --list-devices ("1"), or a case-insensitive substring of
 // the platform, device name, type and version ("pocl": PoCL's version string names it;
-// "intel", "gpu") that matches exactly one device. Throws ClError naming the flag's value and listing the devices when the index is
-// out of range or the substring matches none or several (then it lists those).
-int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devices);
+// "intel", "gpu") that matches exactly one device. Throws ClError naming `what` (the flag or
+// variable) and the value, listing the devices when the index is out of range or the
+// substring matches none or several (then it lists those).
+int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devices,
+                   const std::string& what = "--device");
+
+// The device a render gets when none is asked for: $ARCHWAVE_DEVICE (an index or a name, as
+// --device takes; the test suite sets "pocl", the device it is defined on, so that another
+// OpenCL runtime installed beside PoCL does not change what the tests run on), else index 0.
+constexpr int kDefaultDevice = -1;
 
 // One device with a context and an in-order queue.
 class ClRuntime {
  public:
+  // device_index: from --list-devices, or kDefaultDevice.
   explicit ClRuntime(int device_index);
   const DeviceInfo& info() const { return info_; }
   cl::Context& context() { return context_; }

@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
   // Flags are kept as text and handed to the scene loader as overrides, so "--spp -1" or
   // "--width 0" is rejected with the same message as in a scene file.
   std::string spp, width, height, seed;
-  std::string device = "0";
+  std::string device;
   int threads = 0;
   bool scalar = false, list = false, quiet = false, no_progress = false, generic = false;
   std::vector<std::string> defines;
@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Image height in pixels (overrides render.height)");
   app.add_option("--device", device,
                  "OpenCL device: an index from --list-devices, or a case-insensitive part of its platform, name "
-                 "or type that names one device, e.g. pocl, intel, gpu (default 0)");
+                 "or type that names one device, e.g. pocl, intel, gpu (default: $ARCHWAVE_DEVICE, else 0)");
   app.add_flag("--scalar", scalar, "Render with the host scalar path (Embree rays, same kernel headers)");
   app.add_flag("--list-devices", list, "List OpenCL platforms and devices, then exit");
   app.add_flag("--generic-kernels", generic,
@@ -154,7 +154,7 @@ int main(int argc, char** argv) {
     if (!stats_json.empty()) check_output_writable(stats_json);
 
     aw::RenderOptions opts;
-    if (!scalar) opts.device = aw::resolve_device(device, aw::list_devices());
+    if (!scalar && !device.empty()) opts.device = aw::resolve_device(device, aw::list_devices());
     opts.pool_size = pool;
     opts.dense_fraction = dense_fraction;
     opts.generic_kernels = generic;

@@ -7,13 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "host/cl/cl_runtime.h"
 #include "host/film/image_io.h"
 #include "host/scene/scene.h"
 
 namespace aw {
 
 struct RenderOptions {
-  int device = 0;             // OpenCL device index (wavefront only)
+  int device = kDefaultDevice;  // OpenCL device index (wavefront only); kDefaultDevice: see cl_runtime.h
   uint32_t pool_size = 0;     // path states in flight; 0 = default (2^18, or $ARCHWAVE_POOL)
   uint32_t max_batch = 0;     // jobs per film batch; 0 = default (4 × pool)
   // Queues holding at least this share of the pool run as dense launches (slot order, see

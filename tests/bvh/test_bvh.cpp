@@ -520,7 +520,7 @@ class BvhVsEmbree : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     embree_ = new EmbreeDevice();
-    cl_ = new ClRuntime(0);
+    cl_ = new ClRuntime(aw::kDefaultDevice);
   }
   static void TearDownTestSuite() {
     delete cl_;

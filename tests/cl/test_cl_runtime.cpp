@@ -23,7 +23,7 @@ TEST(ClRuntime, ListsAtLeastOneDevice) {
 }
 
 TEST(ClRuntime, BuildFailureCarriesTheLogWithFileAndLine) {
-  aw::ClRuntime rt(0);
+  aw::ClRuntime rt(aw::kDefaultDevice);
   std::string src = "#line 1 \"kernels/broken.cl\"\n__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
   try {
     rt.build(src, "-cl-std=CL1.2");
@@ -52,7 +52,7 @@ TEST(ClRuntime, AssembledKernelsPointErrorsAtTheRealFile) {
 }
 
 TEST(ClRuntime, OversizedAllocationIsRefusedWithTheSizes) {
-  aw::ClRuntime rt(0);
+  aw::ClRuntime rt(aw::kDefaultDevice);
   size_t too_big = size_t(rt.info().max_alloc) + 4096;
   try {
     rt.buffer("test buffer", too_big);
@@ -128,4 +128,24 @@ TEST(DeviceChoice, BadChoicesAreRefusedWithTheList) {
   e = resolve_error("-1");
   EXPECT_NE(e.find("-1"), std::string::npos) << e;
   EXPECT_NE(resolve_error("").find("no OpenCL device"), std::string::npos);
+}
+
+// With no device asked for, $ARCHWAVE_DEVICE decides (the suite sets "pocl"); a value that
+// names no device is refused naming the variable, not silently replaced by device 0.
+TEST(DeviceChoice, DefaultDeviceFollowsArchwaveDevice) {
+  const char* old = std::getenv("ARCHWAVE_DEVICE");
+  std::string saved = old ? old : "";
+  setenv("ARCHWAVE_DEVICE", "pocl", 1);
+  EXPECT_NE(aw::ClRuntime(aw::kDefaultDevice).info().version.find("PoCL"), std::string::npos);
+  setenv("ARCHWAVE_DEVICE", "no-such-device", 1);
+  try {
+    aw::ClRuntime rt(aw::kDefaultDevice);
+    ADD_FAILURE() << "a bad ARCHWAVE_DEVICE was accepted";
+  } catch (const aw::ClError& e) {
+    EXPECT_NE(std::string(e.what()).find("ARCHWAVE_DEVICE=no-such-device: no OpenCL device"), std::string::npos) << e.what();
+  }
+  if (old)
+    setenv("ARCHWAVE_DEVICE", saved.c_str(), 1);
+  else
+    unsetenv("ARCHWAVE_DEVICE");
 }

@@ -1035,7 +1035,7 @@ namespace detail {
 // One runtime and one program per probe file for the whole test binary. Deliberately leaked:
 // destroying OpenCL objects from static destructors races the ICD's own teardown.
 inline ClRuntime& probe_runtime() {
-  static ClRuntime* rt = new ClRuntime(0);
+  static ClRuntime* rt = new ClRuntime(aw::kDefaultDevice);
   return *rt;
 }
 inline cl::Program& probe_program(const std::string& file) {

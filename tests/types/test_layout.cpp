@@ -76,7 +76,7 @@ TEST(Layout, ListIsNumberedZeroToCountWithoutGaps) {
 }
 
 TEST(Layout, DeviceSizesAndOffsetsMatchHost) {
-  ClRuntime rt(0);
+  ClRuntime rt(aw::kDefaultDevice);
   // default_kernel_dir() is "" (the embedded kernels) unless ARCHWAVE_KERNEL_DIR is set.
   cl::Program program = rt.build(assemble_kernel_source("types/layout_probe.cl", default_kernel_dir()), "-cl-std=CL1.2");
   cl::Kernel kernel(program, "layout_probe");
