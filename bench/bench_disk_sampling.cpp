@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
       };
       SphRect sq = sph_rect_make(make_float3(-r, -r, 0.0f), make_float3(2 * r, 0, 0), make_float3(0, 2 * r, 0), p);
       auto square_est = [&](float2 u) -> double {
+        // Built per sample, as light_sample builds it per shading point: its cost is timed.
         SphRect q = sph_rect_make(make_float3(-r, -r, 0.0f), make_float3(2 * r, 0, 0), make_float3(0, 2 * r, 0), p);
         float3 y = sph_rect_sample(&q, u);
         if (y.x * y.x + y.y * y.y > r * r) return 0.0;

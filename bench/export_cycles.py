@@ -299,15 +299,8 @@ def render(path, spp, seed, log_path):
 def main(argv):
     import argparse
     ap = argparse.ArgumentParser(prog="export_cycles.py")
-    ap.add_argument("scene")
-    ap.add_argument("--out", default=".")
-    ap.add_argument("--result", default=None)
-    ap.add_argument("--width", type=int)
-    ap.add_argument("--height", type=int)
-    ap.add_argument("--geometry", required=True,
-                    help="the OBJ `archwave SCENE --export-geometry FILE` wrote: archwave's own triangles")
+    race_scene.exporter_arguments(ap)
     ap.add_argument("--job", action="append", default=[], help="NAME:SPP:SEED")
-    ap.add_argument("--t0", type=float, default=None)
     args = ap.parse_args(argv)
     try:
         d = race_scene.describe(args.scene, args.width, args.height, args.geometry)

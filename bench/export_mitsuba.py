@@ -155,16 +155,9 @@ def compile_ms(dr, history):
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("scene")
-    ap.add_argument("--out", default=".")
-    ap.add_argument("--result", default=None)
-    ap.add_argument("--width", type=int)
-    ap.add_argument("--height", type=int)
-    ap.add_argument("--geometry", required=True,
-                    help="the OBJ `archwave SCENE --export-geometry FILE` wrote: archwave's own triangles")
+    race_scene.exporter_arguments(ap)
     ap.add_argument("--variant", default="llvm_ad_rgb")
     ap.add_argument("--job", action="append", default=[], help="NAME:SAMPLER:SPP:SEED")
-    ap.add_argument("--t0", type=float, default=None, help="epoch seconds when the caller started this process")
     ap.add_argument("--dict", action="store_true", help="print the scene dictionary and exit")
     args = ap.parse_args(argv)
     try:

@@ -392,8 +392,7 @@ def read_geometry(path):
     tessellation, transforms and winding, so no shape is tessellated twice. Its groups are
     named after the objects ("objects[3] (sphere)"); normals, where present, are per vertex
     and indexed like the positions within a group."""
-    groups, vs, vns = {}, [], []
-    cur = None
+    groups, nv, cur = {}, 0, None
     with open(path) as f:
         for line in f:
             t = line.split()
@@ -403,23 +402,16 @@ def read_geometry(path):
                 name = line[2:].strip()
                 if not name.startswith("objects["):
                     raise ValueError(f"{path}: unexpected group {name!r}")
-                cur = {"v0": len(vs), "n0": len(vns), "tris": [], "smooth": False}
+                cur = {"pos": [], "nrm": [], "tris": [], "v0": nv}
                 groups[int(name[len("objects["):name.index("]")])] = cur
             elif t[0] == "v":
-                vs.append([float(x) for x in t[1:4]])
+                cur["pos"].append([float(x) for x in t[1:4]])
+                nv += 1
             elif t[0] == "vn":
-                vns.append([float(x) for x in t[1:4]])
-            elif t[0] == "f":
-                corners = [c.split("//") for c in t[1:4]]
-                cur["smooth"] = len(corners[0]) == 2
-                cur["tris"].append([int(c[0]) - 1 - cur["v0"] for c in corners])
-    out, ends = {}, sorted(groups.items(), key=lambda kv: kv[1]["v0"])
-    for n, (idx, g) in enumerate(ends):
-        v1 = ends[n + 1][1]["v0"] if n + 1 < len(ends) else len(vs)
-        count = v1 - g["v0"]
-        nrm = vns[g["n0"]:g["n0"] + count] if g["smooth"] else None
-        out[idx] = (vs[g["v0"]:v1], nrm, g["tris"])
-    return out
+                cur["nrm"].append([float(x) for x in t[1:4]])
+            elif t[0] == "f":  # global 1-based position indices; the normals' follow them
+                cur["tris"].append([int(c.split("//")[0]) - 1 - cur["v0"] for c in t[1:4]])
+    return {i: (g["pos"], g["nrm"] or None, g["tris"]) for i, g in groups.items()}
 
 
 def triangles(obj):
@@ -429,6 +421,19 @@ def triangles(obj):
     if "mesh" not in obj:
         raise Unsupported(f"{obj['where']}: no geometry: describe() needs the OBJ of archwave --export-geometry")
     return obj["mesh"]
+
+
+def exporter_arguments(ap):
+    """The command-line arguments both exporters take (scripts/archwave_bench/race.py passes
+    them); each adds its own --job and extras."""
+    ap.add_argument("scene")
+    ap.add_argument("--out", default=".")
+    ap.add_argument("--result", default=None)
+    ap.add_argument("--width", type=int)
+    ap.add_argument("--height", type=int)
+    ap.add_argument("--geometry", required=True,
+                    help="the OBJ `archwave SCENE --export-geometry FILE` wrote: archwave's own triangles")
+    ap.add_argument("--t0", type=float, default=None, help="epoch seconds when the caller started this process")
 
 
 # The description (describe's result):

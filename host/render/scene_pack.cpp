@@ -14,13 +14,6 @@ namespace aw {
 
 namespace {
 
-// Smallest r with 2^r >= n (n >= 1).
-uint32_t ceil_log2(uint32_t n) {
-  uint32_t r = 0;
-  while (r < 32u && (uint64_t(1) << r) < n) ++r;
-  return r;
-}
-
 void put3(float* dst, glm::vec3 v) {
   dst[0] = v.x;
   dst[1] = v.y;
@@ -256,11 +249,10 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   rp.sampler = rs.sampler == RenderSettings::Sampler::Independent ? AW_SAMPLER_INDEPENDENT
                : rs.sampler == RenderSettings::Sampler::ZSobol    ? AW_SAMPLER_ZSOBOL
                                                                    : AW_SAMPLER_SOBOL;
-  // zsobol's index layout (kernels/common/rng.h, rng_zsobol_index): a pixel's block of
-  // 2^ceil(log2 spp) indices below the Morton code of a 2^r x 2^r square holding the image.
-  // At most 2 * 16 + 31 = 63 bits (width, height <= 65536, spp < 2^31).
-  rp.sampler_log2_spp = ceil_log2(uint32_t(rs.spp));
-  rp.sampler_bits = 2u * ceil_log2(uint32_t(std::max(rs.width, rs.height))) + rp.sampler_log2_spp;
+  // zsobol's index layout (kernels/common/rng.h, sampler_for_image).
+  const Sampler layout = sampler_for_image(rp.sampler, rp.seed, rp.width, rp.height, uint32_t(rs.spp));
+  rp.sampler_log2_spp = layout.log2_spp;
+  rp.sampler_bits = layout.bits;
   put3(rp.env_radiance, scene.environment.color * scene.environment.intensity);
   // Every light is passed, also those that cannot be sampled: they are still hit and still
   // occlude (a zero-radiance light is a black object). If all have zero power the pick lands

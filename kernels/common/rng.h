@@ -67,6 +67,22 @@ AW_FN Sampler sampler_make(uint kind, uint seed, uint width, uint log2_spp, uint
   return s;
 }
 
+// Smallest r with 2^r >= n (n >= 1).
+AW_FN uint ceil_log2_u32(uint n) {
+  uint r = 0u;
+  while (r < 32u && ((ulong)1 << r) < (ulong)n) ++r;
+  return r;
+}
+
+// A sampler with zsobol's index layout for a width x height image at spp samples per pixel
+// (rng_zsobol_index): a pixel's block of 2^ceil(log2 spp) indices below the Morton code of a
+// 2^r x 2^r square holding the image. At most 2 * 16 + 31 = 63 bits (width, height <= 65536,
+// spp < 2^31). The host packs RenderParams from it.
+AW_FN Sampler sampler_for_image(uint kind, uint seed, uint width, uint height, uint spp) {
+  uint l = ceil_log2_u32(spp);
+  return sampler_make(kind, seed, width, l, 2u * ceil_log2_u32(width > height ? width : height) + l);
+}
+
 // pcg4d: Jarzynski & Olano 2020, "Hash Functions for GPU Rendering", JCGT 9(3), Sec. 3.
 // Chosen over a 1D hash chain because it mixes four independent inputs in one pass and
 // passed their TestU01 BigCrush battery as a 4D->4D hash.
@@ -218,22 +234,22 @@ AW_FN uint morton2(uint x, uint y) {
 // - the pixels of every aligned 2^j x 2^j square share one aligned block of 4^j blocks: a
 //   net over the square, so neighbours' errors cancel in a low-pass view (blue noise);
 // - the order differs per set (the hash takes it), which decorrelates the sets.
+// The hash that picks a digit's permutation: of the digits above it and of the set.
+AW_FN uint zsobol_digit_hash(ulong higher, uint set_seed) {
+  return pcg_hash((uint)higher ^ pcg_hash((uint)(higher >> 32) ^ set_seed));
+}
+
 AW_FN ulong rng_zsobol_index(Sampler s, uint pixel, uint sample, uint set_seed) {
   uint x = pixel % s.width, y = pixel / s.width;
   ulong m = ((ulong)morton2(x, y) << s.log2_spp) | (ulong)sample;
   ulong out = 0;
   int odd = (int)(s.bits & 1u);
   for (int shift = (int)s.bits - 2; shift >= odd; shift -= 2) {
-    ulong higher = m >> (shift + 2);
-    uint h = pcg_hash((uint)higher ^ pcg_hash((uint)(higher >> 32) ^ set_seed));
+    uint h = zsobol_digit_hash(m >> (shift + 2), set_seed);
     uint d = (uint)(m >> shift) & 3u;
     out |= (ulong)base4_permute(h % 24u, d) << shift;
   }
-  if (odd) {
-    ulong higher = m >> 1;
-    uint h = pcg_hash((uint)higher ^ pcg_hash((uint)(higher >> 32) ^ set_seed));
-    out |= (m & 1UL) ^ (ulong)(h >> 31);
-  }
+  if (odd) out |= (m & 1UL) ^ (ulong)(zsobol_digit_hash(m >> 1, set_seed) >> 31);
   return out;
 }
 
@@ -252,16 +268,31 @@ AW_FN void zsobol_set_seeds(uint seed, uint bounce, uint dim, uint* s) {
 // their high bits into the scrambles, so those points stay distinct. Sample indices past a
 // pixel's block (lobe-splitting children, >= spp) take the `sobol` sampler's numbers, which
 // are stratified per pixel the same way (their blocks are aligned too).
+// The point's index (low 32 bits) and its two coordinates' scramble seeds (k[1], k[2]).
+AW_FN uint zsobol_point_setup(Sampler s, uint pixel, uint sample, uint bounce, uint dim, uint* k) {
+  zsobol_set_seeds(s.seed, bounce, dim, k);
+  ulong i = rng_zsobol_index(s, pixel, sample, k[0]);
+  uint hi = (uint)(i >> 32);
+  k[1] ^= pcg_hash(hi);
+  k[2] ^= pcg_hash(hi ^ 0x9e3779b9u);
+  return (uint)i;
+}
+
 AW_FN float2 rng_zsobol_2d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
   if ((sample >> s.log2_spp) != 0u) return rng_sobol_2d(s.seed, pixel, sample, bounce, dim);
   uint k[4];
-  zsobol_set_seeds(s.seed, bounce, dim, k);
-  ulong i = rng_zsobol_index(s, pixel, sample, k[0]);
-  uint lo = (uint)i, hi = (uint)(i >> 32);
-  uint s1 = k[1] ^ pcg_hash(hi), s2 = k[2] ^ pcg_hash(hi ^ 0x9e3779b9u);
-  uint xs = reverse_bits32(laine_karras_permutation(lo, s1));
-  uint ys = reverse_bits32(laine_karras_permutation(sobol_superset_xor(lo), s2));
+  uint lo = zsobol_point_setup(s, pixel, sample, bounce, dim, k);
+  uint xs = reverse_bits32(laine_karras_permutation(lo, k[1]));
+  uint ys = reverse_bits32(laine_karras_permutation(sobol_superset_xor(lo), k[2]));
   return make_float2(rng_to_unit(xs), rng_to_unit(ys));
+}
+
+// The first coordinate alone (rng_zsobol_2d(...).x, without computing the second).
+AW_FN float rng_zsobol_1d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
+  if ((sample >> s.log2_spp) != 0u) return rng_sobol_1d(s.seed, pixel, sample, bounce, dim);
+  uint k[4];
+  uint lo = zsobol_point_setup(s, pixel, sample, bounce, dim, k);
+  return rng_to_unit(reverse_bits32(laine_karras_permutation(lo, k[1])));
 }
 
 /* ------------------------------------ the interface -------------------------------------- */
@@ -275,7 +306,7 @@ AW_FN float2 rng_2d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
 // The first coordinate of the 2-D set (the same number rng_2d(...).x gives).
 AW_FN float rng_1d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
   if (s.kind == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(s.seed, pixel, sample, bounce, dim).x;
-  if (s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_2d(s, pixel, sample, bounce, dim).x;
+  if (s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_1d(s, pixel, sample, bounce, dim);
   return rng_sobol_1d(s.seed, pixel, sample, bounce, dim);
 }
 

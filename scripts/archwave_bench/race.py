@@ -225,7 +225,7 @@ def export_geometry(ctx, scene, work):
     return path
 
 
-def run_cycles(ctx, scene, ladder, check_seconds, work):
+def run_cycles(ctx, scene, ladder, check_seconds, work, geometry):
     out = os.path.join(work, "cycles")
     result = os.path.join(out, "result.json")
     jobs = [f"l{i}_{spp}:{spp}:{i + 1}" for i, spp in enumerate(ladder)]
@@ -233,7 +233,7 @@ def run_cycles(ctx, scene, ladder, check_seconds, work):
     argv = [blender(), "-b", "--factory-startup", "--debug-cycles", "--python-exit-code", "3",
             "--python", EXPORT_CYCLES, "--", scene.path, "--out", out, "--result", result,
             "--width", str(scene.width), "--height", str(scene.height),
-            "--geometry", os.path.join(work, "geometry.obj")]
+            "--geometry", geometry]
     for j in jobs:
         argv += ["--job", j]
     res = _peer_process(ctx, argv, None, result, f"cycles {scene.key}")
@@ -243,7 +243,7 @@ def run_cycles(ctx, scene, ladder, check_seconds, work):
     return {"cycles": {"points": points, "meta": res}}, (conv, var, total)
 
 
-def run_mitsuba(ctx, scene, ladder, check_seconds, work):
+def run_mitsuba(ctx, scene, ladder, check_seconds, work, geometry):
     out = os.path.join(work, "mitsuba")
     result = os.path.join(out, "result.json")
     jobs = []
@@ -253,7 +253,7 @@ def run_mitsuba(ctx, scene, ladder, check_seconds, work):
     jobs += [f"c{k}:multijitter:fit{check_seconds / 2:g}:{201 + k}" for k in range(2)]
     argv = [mitsuba_python(), EXPORT_MITSUBA, scene.path, "--out", out, "--result", result,
             "--width", str(scene.width), "--height", str(scene.height),
-            "--geometry", os.path.join(work, "geometry.obj")]
+            "--geometry", geometry]
     for j in jobs:
         argv += ["--job", j]
     res = _peer_process(ctx, argv, mitsuba_env(), result, f"mitsuba {scene.key}")
@@ -298,7 +298,7 @@ def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, che
     os.makedirs(work, exist_ok=True)
     log(f"race: {scene.key}: archwave")
     aw = run_archwave(ctx, scene, ladder, ref_want, ref_seconds)
-    export_geometry(ctx, scene, work)
+    geometry = export_geometry(ctx, scene, work)
     rows = {"archwave": {"points": aw["points"], "meta": {"startup": aw["startup"]}},
             "archwave_scalar": {"points": aw["scalar_points"], "meta": {"startup": aw["scalar_startup"]}}}
     checks, failures = {}, {}
@@ -306,7 +306,7 @@ def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, che
         if peers.get(name):
             continue
         try:
-            got, (conv, var, total) = runner(ctx, scene, ladder, check_seconds, work)
+            got, (conv, var, total) = runner(ctx, scene, ladder, check_seconds, work, geometry)
         except Exception as e:  # noqa: BLE001 -- a peer that fails is reported, never fatal to the suite
             text = str(e).strip() or type(e).__name__
             head, _, err = text.partition("\nstderr:\n")

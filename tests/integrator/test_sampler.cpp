@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "kernels/common/rng.h"
@@ -16,13 +18,18 @@ namespace {
 // 24-bit fixed point of a sample (rng_to_unit keeps the top 24 bits exactly).
 uint32_t fixed24(float u) { return uint32_t(double(u) * 16777216.0); }
 
-// The points i in [first, first + 2^k) of one (seed, pixel, bounce, dim) set fall one per
-// elementary interval of area 2^-k, for every shape 2^a x 2^(k-a): a (0,k,2)-net.
-void expect_2d_net(uint32_t seed, uint32_t pixel, uint32_t bounce, uint32_t dim, int k, uint32_t first) {
-  const uint32_t n = 1u << k;
+// The points of (pixel, sample) pairs `ps` of one (bounce, dim) set fall one per elementary
+// interval of area 2^-k, k = log2 of their count, for every shape 2^a x 2^(k-a): a
+// (0,k,2)-net. `what` names the case in failure messages.
+void expect_net(Sampler smp, const std::vector<std::pair<uint32_t, uint32_t>>& ps, uint32_t bounce, uint32_t dim,
+                const std::string& what) {
+  const uint32_t n = uint32_t(ps.size());
+  int k = 0;
+  while ((1u << k) < n) ++k;
+  ASSERT_EQ(1u << k, n);
   std::vector<uint32_t> x(n), y(n);
   for (uint32_t i = 0; i < n; ++i) {
-    float2 u = rng_2d(sampler_make(AW_SAMPLER_SOBOL, seed, 0u, 0u, 0u), pixel, first + i, bounce, dim);
+    float2 u = rng_2d(smp, ps[i].first, ps[i].second, bounce, dim);
     ASSERT_TRUE(u.x >= 0.0f && u.x < 1.0f && u.y >= 0.0f && u.y < 1.0f);
     x[i] = fixed24(u.x);
     y[i] = fixed24(u.y);
@@ -34,10 +41,17 @@ void expect_2d_net(uint32_t seed, uint32_t pixel, uint32_t bounce, uint32_t dim,
       ++cells[(cx << (k - a)) | cy];
     }
     for (uint32_t c = 0; c < n; ++c)
-      ASSERT_EQ(cells[c], 1) << "k=" << k << " shape 2^" << a << " x 2^" << k - a << " cell " << c << " seed "
-                             << seed << " pixel " << pixel << " bounce " << bounce << " dim " << dim
-                             << " first " << first;
+      ASSERT_EQ(cells[c], 1) << "k=" << k << " shape 2^" << a << " x 2^" << k - a << " cell " << c << " " << what;
   }
+}
+
+// The points i in [first, first + 2^k) of one (seed, pixel, bounce, dim) set of `sobol`.
+void expect_2d_net(uint32_t seed, uint32_t pixel, uint32_t bounce, uint32_t dim, int k, uint32_t first) {
+  std::vector<std::pair<uint32_t, uint32_t>> ps;
+  for (uint32_t i = 0; i < (1u << k); ++i) ps.push_back({pixel, first + i});
+  expect_net(sampler_make(AW_SAMPLER_SOBOL, seed, 0u, 0u, 0u), ps, bounce, dim,
+             "seed " + std::to_string(seed) + " pixel " + std::to_string(pixel) + " bounce " + std::to_string(bounce) +
+                 " dim " + std::to_string(dim) + " first " + std::to_string(first));
 }
 
 TEST(SobolSampler, FirstPowerOfTwoSamplesOfEveryPixelAndSetAreNets) {
@@ -173,41 +187,10 @@ TEST(SobolPrimitives, GeneratorsAndScrambles) {
 
 // ---- zsobol: the same (0,2)-sequence, one per set for the whole image, in Z order ----------
 
-// A zsobol sampler for a width x height image at spp samples per pixel, laid out as
-// host/render/scene_pack.cpp lays it out.
+// A zsobol sampler for a width x height image at spp samples per pixel, laid out as the host
+// lays it out (sampler_for_image).
 Sampler zsobol(uint32_t seed, uint32_t width, uint32_t height, uint32_t spp) {
-  auto ceil_log2 = [](uint32_t n) {
-    uint32_t r = 0;
-    while ((uint64_t(1) << r) < n) ++r;
-    return r;
-  };
-  uint32_t l = ceil_log2(spp);
-  return sampler_make(AW_SAMPLER_ZSOBOL, seed, width, l, 2u * ceil_log2(std::max(width, height)) + l);
-}
-
-// The points of a list of (pixel, sample) pairs form a (0,k,2)-net, k = log2 of their count.
-void expect_zsobol_net(Sampler z, const std::vector<std::pair<uint32_t, uint32_t>>& ps, uint32_t bounce,
-                       uint32_t dim) {
-  const uint32_t n = uint32_t(ps.size());
-  int k = 0;
-  while ((1u << k) < n) ++k;
-  ASSERT_EQ(1u << k, n);
-  std::vector<uint32_t> x(n), y(n);
-  for (uint32_t i = 0; i < n; ++i) {
-    float2 u = rng_2d(z, ps[i].first, ps[i].second, bounce, dim);
-    ASSERT_TRUE(u.x >= 0.0f && u.x < 1.0f && u.y >= 0.0f && u.y < 1.0f);
-    x[i] = fixed24(u.x);
-    y[i] = fixed24(u.y);
-  }
-  for (int a = 0; a <= k; ++a) {
-    std::vector<int> cells(n, 0);
-    for (uint32_t i = 0; i < n; ++i) {
-      uint32_t cx = a == 0 ? 0u : x[i] >> (24 - a), cy = k - a == 0 ? 0u : y[i] >> (24 - (k - a));
-      ++cells[(cx << (k - a)) | cy];
-    }
-    for (uint32_t c = 0; c < n; ++c)
-      ASSERT_EQ(cells[c], 1) << "k=" << k << " shape 2^" << a << " x 2^" << k - a << " cell " << c;
-  }
+  return sampler_for_image(AW_SAMPLER_ZSOBOL, seed, width, height, spp);
 }
 
 // Each pixel's samples are an aligned block of the set's sequence: a net, as with `sobol`,
@@ -219,7 +202,7 @@ TEST(ZSobolSampler, EveryPixelsSamplesAreANet) {
       for (uint32_t dim : {uint32_t(AW_DIM_CAMERA), uint32_t(AW_DIM_BSDF)}) {
         std::vector<std::pair<uint32_t, uint32_t>> ps;
         for (uint32_t i = 0; i < spp; ++i) ps.push_back({pixel, i});
-        expect_zsobol_net(z, ps, 1u, dim);
+        expect_net(z, ps, 1u, dim, "pixel " + std::to_string(pixel) + " spp " + std::to_string(spp));
       }
   }
 }
@@ -238,7 +221,7 @@ TEST(ZSobolSampler, AlignedSquaresOfPixelsTogetherAreANet) {
           for (uint32_t y = y0; y < y0 + (1u << j); ++y)
             for (uint32_t x = x0; x < x0 + (1u << j); ++x)
               for (uint32_t i = 0; i < spp; ++i) ps.push_back({y * w + x, i});
-          expect_zsobol_net(z, ps, 0u, AW_DIM_LIGHT);
+          expect_net(z, ps, 0u, AW_DIM_LIGHT, "square 2^" + std::to_string(j) + " at " + std::to_string(x0) + "," + std::to_string(y0));
         }
   }
 }
