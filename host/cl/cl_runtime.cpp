@@ -66,6 +66,7 @@ std::vector<DeviceInfo> list_devices() {
       cl_device_type t = d.getInfo<CL_DEVICE_TYPE>();
       i.type = (t & CL_DEVICE_TYPE_GPU) ? "GPU" : (t & CL_DEVICE_TYPE_CPU) ? "CPU" : "other";
       i.version = d.getInfo<CL_DEVICE_VERSION>();
+      i.driver = d.getInfo<CL_DRIVER_VERSION>();
       i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
       i.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
       i.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();

@@ -26,6 +26,7 @@ struct DeviceInfo {
   std::string name;
   std::string type;  // "CPU", "GPU", ...
   std::string version;
+  std::string driver;  // CL_DRIVER_VERSION (what the device-speed cache is keyed on, with the rest)
   unsigned compute_units = 0;
   uint64_t global_mem = 0;
   uint64_t max_alloc = 0;
@@ -48,6 +49,8 @@ int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devic
 // The device a render gets when none is asked for: $ARCHWAVE_DEVICE (an index or a name, as
 // --device takes; the test suite sets "pocl", the device it is defined on, so that another
 // OpenCL runtime installed beside PoCL does not change what the tests run on), else index 0.
+// The CLI does not pass it blind: with no --device it resolves the fastest device first
+// (host/render/device_choice.h).
 constexpr int kDefaultDevice = -1;
 
 // One device with a context and an in-order queue.

@@ -20,6 +20,7 @@
 #include "host/cl/kernel_source.h"
 #include "host/film/image_io.h"
 #include "host/film/progress.h"
+#include "host/render/device_choice.h"
 #include "host/render/render.h"
 #include "host/render/stats_json.h"
 #include "host/scene/export_obj.h"
@@ -83,9 +84,14 @@ int main(int argc, char** argv) {
   app.add_option("--height", height, "Image height in pixels (overrides render.height)");
   app.add_option("--device", device,
                  "OpenCL device: an index from --list-devices, or a case-insensitive part of its platform, name "
-                 "or type that names one device, e.g. pocl, intel, gpu (default: $ARCHWAVE_DEVICE, else 0)");
+                 "or type that names one device, e.g. pocl, intel, gpu (default: $ARCHWAVE_DEVICE, else the fastest "
+                 "device, measured once and cached: docs/devices.md)");
   app.add_flag("--scalar", scalar, "Render with the host scalar path (Embree rays, same kernel headers)");
   app.add_flag("--list-devices", list, "List OpenCL platforms and devices, then exit");
+  bool measure_devices = false;
+  app.add_flag("--measure-devices", measure_devices,
+               "Measure every OpenCL device's speed again for the default choice (cached; docs/devices.md); "
+               "without a scene, print the choice and exit");
   app.add_flag("--generic-kernels", generic,
                "Build the kernels with every material and light feature, instead of only those the scene uses "
                "(for comparison; the default specialised build gives the same image)");
@@ -131,6 +137,11 @@ int main(int argc, char** argv) {
       std::cout << aw::describe_devices(aw::list_devices());
       return kOk;
     }
+    if (measure_devices && scene_path.empty()) {
+      aw::DeviceChoice c = aw::choose_default_device(aw::default_device_cache_path(), true, std::cerr);
+      std::cout << "default device: [" << c.index << "], " << c.how << "\n";
+      return kOk;
+    }
     if (scene_path.empty()) {
       std::cerr << "archwave: no scene given (try --help)\n";
       return kUsage;
@@ -154,7 +165,15 @@ int main(int argc, char** argv) {
     if (!stats_json.empty()) check_output_writable(stats_json);
 
     aw::RenderOptions opts;
-    if (!scalar && !device.empty()) opts.device = aw::resolve_device(device, aw::list_devices());
+    std::string device_choice;
+    if (!scalar && !device.empty()) {
+      opts.device = aw::resolve_device(device, aw::list_devices());
+      device_choice = "--device " + device;
+    } else if (!scalar) {
+      aw::DeviceChoice c = aw::choose_default_device(aw::default_device_cache_path(), measure_devices, std::cerr);
+      opts.device = c.index;
+      device_choice = c.how;
+    }
     opts.pool_size = pool;
     opts.dense_fraction = dense_fraction;
     opts.generic_kernels = generic;
@@ -166,6 +185,7 @@ int main(int argc, char** argv) {
     std::signal(SIGTERM, on_sigint);
 
     aw::RenderResult r = scalar ? aw::render_scalar(scene, opts) : aw::render_wavefront(scene, opts);
+    r.stats.device_choice = device_choice;
     for (const auto& w : r.stats.warnings) std::cerr << "archwave: warning: " << w << "\n";
     aw::Image img = r.image(scene);
     aw::write_exr(output, img);

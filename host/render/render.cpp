@@ -41,6 +41,7 @@ std::string RenderStats::summary() const {
   std::ostringstream s;
   char buf[256];
   s << "renderer        " << renderer << " on " << device << "\n";
+  if (!device_choice.empty()) s << "device choice   " << device_choice << "\n";
   if (!kernel_features.empty()) s << "kernels         " << kernel_features << "\n";
   std::snprintf(buf, sizeof buf, "time            %.3f s total (BVH %.3f s, kernel build %.3f s)\n", total_seconds,
                 bvh_seconds, compile_seconds);

@@ -32,6 +32,7 @@ struct RenderOptions {
 struct RenderStats {
   std::string renderer;  // "wavefront" or "scalar"
   std::string device;
+  std::string device_choice;  // why this device, when the CLI chose it (host/render/device_choice.h)
   double total_seconds = 0.0;
   double bvh_seconds = 0.0;
   double compile_seconds = 0.0;

@@ -18,6 +18,7 @@ nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
   return {
       {"renderer", st.renderer},
       {"device", st.device},
+      {"device_choice", st.device_choice},
       {"kernel_features", st.kernel_features},
       {"scene", scene.path},
       {"width", result.width},

@@ -152,6 +152,18 @@ TEST(Cli, DeviceByName) {
   CliRun r = run(scene + " --device pocl -o " + scratch() + "/byname.exr");
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.err.find("Portable Computing Language"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("device choice   --device pocl\n"), std::string::npos) << r.err;
+}
+
+// With no --device the stats say which rule chose the device: here the suite's $ARCHWAVE_DEVICE
+// (the measured choice is tested in tests/render/test_device_choice.cpp).
+TEST(Cli, StatsSayWhyThisDevice) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  CliRun r = run(scene + " -o " + scratch() + "/why.exr");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("device choice   $ARCHWAVE_DEVICE=pocl\n"), std::string::npos) << r.err;
+  CliRun m = run("--measure-devices");
+  EXPECT_EQ(m.code, 0) << m.err;
 }
 
 TEST(CliBadInput, UnwritableOutputFailsBeforeRendering) {
@@ -169,7 +181,7 @@ TEST(Cli, HelpDocumentsEveryFlag) {
   std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const char* flag : {"--output", "--spp", "--seed", "--width", "--height", "--device", "--scalar",
                            "--list-devices", "--define", "--kernels", "--pool", "--quiet", "--generic-kernels",
-                           "--stats-json", "--dense-fraction"})
+                           "--stats-json", "--dense-fraction", "--measure-devices"})
     EXPECT_NE(help.find(flag), std::string::npos) << flag;
 }
 
