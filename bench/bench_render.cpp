@@ -1,4 +1,5 @@
-// bench_render [SCENE.json] [--spp N] [--width W --height H] [--device I] [--out FILE]
+// bench_render [SCENE.json] [--spp N] [--width W --height H] [--device I|NAME] [--out FILE]
+// (default device: pocl, the device the measured tables are defined on)
 // End-to-end throughput of the two renderers on the same scene, side by side in one run:
 // samples/s and rays/s of the wavefront (OpenCL) and of the host scalar path (Embree rays,
 // all cores), plus the wavefront's per-stage time breakdown. Kernel compilation is excluded
@@ -30,21 +31,21 @@ std::string cpu_model() {
 int main(int argc, char** argv) {
   std::string scene_path = std::string(ARCHWAVE_SOURCE_DIR) + "/scenes/cornell.json";
   std::string spp = "32", width = "400", height = "400", out;
-  int device = 0;
+  std::string device = "pocl";  // an index or a name, as archwave --device takes them
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&]() -> std::string { return i + 1 < argc ? argv[++i] : ""; };
     if (a == "--spp") spp = next();
     else if (a == "--width") width = next();
     else if (a == "--height") height = next();
-    else if (a == "--device") device = std::stoi(next());
+    else if (a == "--device") device = next();
     else if (a == "--out") out = next();
     else scene_path = a;
   }
   try {
     aw::Scene scene = aw::load_scene(scene_path, {"render.spp=" + spp, "render.width=" + width, "render.height=" + height});
     aw::RenderOptions o;
-    o.device = device;
+    o.device = aw::resolve_device(device, aw::list_devices());
     aw::Scene warm = aw::load_scene(scene_path, {"render.spp=1", "render.width=16", "render.height=16"});
     aw::RenderResult w0 = aw::render_wavefront(warm, o);  // compile (or load from cache)
     aw::RenderResult w = aw::render_wavefront(scene, o);

@@ -50,7 +50,7 @@ struct Options {
   size_t tris = 1000000;
   std::string scene;
   int width = 1024, height = 1024;
-  int device = 0;
+  std::string device = "pocl";  // an index or a name, as archwave --device takes them
   std::string out;
   std::string json;
 };
@@ -58,7 +58,7 @@ struct Options {
 [[noreturn]] void usage(const char* msg) {
   std::fprintf(stderr,
                "bench_traversal: %s\n"
-               "usage: bench_traversal [--tris N] [--scene FILE.json] [--width W] [--height H] [--device I] "
+               "usage: bench_traversal [--tris N] [--scene FILE.json] [--width W] [--height H] [--device I|NAME] "
                "[--out FILE] [--json FILE]\n",
                msg);
   std::exit(2);
@@ -83,7 +83,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--scene") o.scene = value();
     else if (a == "--width") o.width = int(number(1));
     else if (a == "--height") o.height = int(number(1));
-    else if (a == "--device") o.device = int(number(0));
+    else if (a == "--device") o.device = value();
     else if (a == "--out") o.out = value();
     else if (a == "--json") o.json = value();
     else if (a == "--help" || a == "-h") usage("traversal benchmark");
@@ -324,7 +324,7 @@ int main(int argc, char** argv) {
     t0 = now();
     aw::EmbreeScene escene(embree, soup);
     double t_escene = secs(t0);
-    aw::ClRuntime rt(opt.device);
+    aw::ClRuntime rt(aw::resolve_device(opt.device, aw::list_devices()));
     t0 = now();
     aw::ClTracer tracer(rt, bvh, aw::default_kernel_dir());
     double t_cl_build = secs(t0);

@@ -57,7 +57,9 @@ def parse(argv):
                          "allowance when it runs: about 6 with both peers installed, 0.4 with --quick)")
     ap.add_argument("--quick", action="store_true", help="smoke run: tiny sizes, about a minute")
     ap.add_argument("--only", default=",".join(SECTIONS), help="comma-separated sections: " + ",".join(SECTIONS))
-    ap.add_argument("--device", type=int, default=0, help="OpenCL device for the wavefront renders")
+    ap.add_argument("--device", default="pocl",
+                    help="OpenCL device for the wavefront renders: an index or a name, as archwave --device "
+                         "takes them (default pocl: the tables are defined on PoCL; the devices section runs on all)")
     ap.add_argument("--ref-renderer", choices=("scalar", "wavefront"), default="scalar",
                     help="renderer for references (default scalar: the faster one on a CPU)")
     ap.add_argument("--update-docs", action="store_true",
