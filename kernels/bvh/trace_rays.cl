@@ -9,7 +9,8 @@
 #define AW_WG 64
 #endif
 
-__kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
+// Scalar on Intel's runtime, as the render's ray stages (common/compat.h).
+__kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(AW_WG, 1, 1)))
 void trace_rays(uint count, uint any_hit, __global const float4* rays, __global const float4* nodes, uint num_nodes,
                 __global const float4* tris, __global float4* hits) {
   uint i = get_global_id(0);

@@ -33,6 +33,15 @@
 #define M_PI_F 3.14159265358979323846f
 #endif
 
+// Kernel attribute: do not vectorise this kernel across work-items (Intel's CPU runtime, its
+// cl_intel_vec_len_hint extension with length 1; nothing elsewhere). For the ray stages, whose
+// gathers lose when vectorised: measured in integrator/kernels.cl and docs/performance.md.
+#if defined(cl_intel_vec_len_hint)
+#define AW_SCALAR_KERNEL __attribute__((intel_vec_len_hint(1)))
+#else
+#define AW_SCALAR_KERNEL
+#endif
+
 #else
 /* --------------------------------- C++ host ---------------------------------------------- */
 #include <glm/glm.hpp>

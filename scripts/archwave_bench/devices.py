@@ -17,7 +17,10 @@ def measure(ctx):
     w, h, spp = size(ctx)
     rows, stages = [], {key: [] for key in STAGE_SCENES}
     for idx, desc in ctx.tools.list_devices():
-        name = f"[{idx}] {desc.split(' (')[0].strip()}"
+        # "[0] Intel(R) OpenCL": the platform tells CPU runtimes apart (their device names are
+        # both the CPU's); desc is "NAME  (TYPE, PLATFORM, VERSION, ...)".
+        fields = desc.split(" (", 1)[1].split(", ") if " (" in desc else []
+        name = f"[{idx}] {fields[1] if len(fields) > 1 else desc.split(' (')[0].strip()}"
         for key in STAGE_SCENES:
             sc = ctx.scenes[key]
             ctx.warm_up(sc.path, spp, defines=sc.defines, device=idx)
