@@ -21,7 +21,7 @@ namespace {
 // The measurement's scene: the default scene (scenes/cornell.json), small. Same features, so
 // the kernels it builds are the ones the default render loads from the device's cache. Embedded so that the choice does not depend on where the binary runs from.
 const char* kCalibrationScene = R"({
-  "render": { "width": 96, "height": 96, "spp": 8, "seed": 0, "max_depth": 8 },
+  "render": { "width": 256, "height": 256, "spp": 8, "seed": 0, "max_depth": 8 },
   "camera": { "position": [0, 1, 3.9], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 37.5 },
   "environment": { "type": "constant", "color": [0, 0, 0] },
   "lights": [
@@ -226,7 +226,7 @@ DeviceChoice pick_fastest(const std::vector<DeviceInfo>& devices, const std::vec
   DeviceChoice c;
   c.index = best;
   c.how = "the fastest of " + std::to_string(devices.size()) +
-          " devices measured here (Msamples/s on a small Cornell box: " + all.str() + "; " + cache_path + ")";
+          " devices measured here (Msamples/s on the Cornell box: " + all.str() + "; " + cache_path + ")";
   return c;
 }
 

@@ -24,7 +24,7 @@ struct DeviceSpeed {
 
 // The order of choice: $ARCHWAVE_DEVICE when set (an index or a name, as --device takes);
 // else the only device; else the fastest by a measurement of archwave's own wavefront on a small
-// built-in Cornell box (the default scene's content, 96x96, 8 spp, best of 3 after a warm-up
+// built-in Cornell box (the default scene's content, 256x256, 8 spp, best of 3 after a warm-up
 // that builds the kernels), taken once per device and cached in `cache_path` so later renders
 // pay nothing. A device whose key (platform, name, version, driver, archwave version) is not in
 // the cache is measured, and the cache rewritten atomically (one that cannot be written is a
