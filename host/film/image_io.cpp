@@ -166,6 +166,13 @@ uint8_t encode_srgb8(double linear) {
 
 }  // namespace
 
+void write_text_file(const char* kind, const std::string& path, const std::string& text) {
+  TmpFile out(kind, path);
+  if (std::fwrite(text.data(), 1, text.size(), out.file()) != text.size())
+    fail_write(kind, path, "writing " + in_quotes(out.tmp_path()) + " failed: " + errno_text(errno));
+  out.commit();
+}
+
 void write_exr(const std::string& path, const Image& img) {
   static const char* kind = "EXR";
   check_image_for_write(kind, path, img);

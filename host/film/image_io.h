@@ -44,6 +44,10 @@ Image read_exr(const std::string& path);
 // exposure_scale is an OutputError as well.
 void write_png_preview(const std::string& path, const Image& img, float exposure_scale);
 
+// `text` written with the same tmp+rename (and fsync) as write_exr; throws OutputError naming
+// `kind` and path.
+void write_text_file(const char* kind, const std::string& path, const std::string& text);
+
 // "out.exr" -> "out.png"; the ".exr" suffix is matched case-insensitively ("a.EXR" ->
 // "a.png"); any other path gets ".png" appended ("out" -> "out.png").
 std::string png_path_for(const std::string& exr_path);

@@ -1,7 +1,5 @@
 #include "host/render/device_choice.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -12,14 +10,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/film/image_io.h"
 #include "host/render/render.h"
 #include "host/scene/scene.h"
 
 namespace aw {
 namespace {
 
-// The measurement's scene: the default scene (scenes/cornell.json), small. Same features, so
-// the kernels it builds are the ones the default render loads from the device's cache. Embedded so that the choice does not depend on where the binary runs from.
+// The measurement's scene: the default scene (scenes/cornell.json) at 256x256 x 8 spp. Same
+// features, so the kernels it builds are the ones the default render loads from the device's
+// cache. Embedded so that the choice does not depend on where the binary runs from.
 const char* kCalibrationScene = R"({
   "render": { "width": 256, "height": 256, "spp": 8, "seed": 0, "max_depth": 8 },
   "camera": { "position": [0, 1, 3.9], "look_at": [0, 1, 0], "up": [0, 1, 0], "fov": 37.5 },
@@ -70,6 +70,13 @@ Scene calibration_scene(const std::vector<std::string>& overrides) {
     std::remove(path);
     throw;
   }
+}
+
+const DeviceSpeed* find_speed(const std::vector<DeviceSpeed>& speeds, const DeviceInfo& d) {
+  const std::string key = device_speed_key(d);
+  for (const auto& s : speeds)
+    if (s.key == key) return &s;
+  return nullptr;
 }
 
 }  // namespace
@@ -132,21 +139,11 @@ void write_device_cache(const std::string& path, const std::vector<DeviceSpeed>&
                       {"devices", devs}};
   std::error_code ec;
   std::filesystem::create_directories(std::filesystem::path(path).parent_path(), ec);
-  // Write then rename, so that two renders starting at once never read half a file.
-  std::string tmp = path + ".tmp" + std::to_string(getpid());
-  {
-    std::ofstream o(tmp);
-    o << j.dump(2) << "\n";
-    if (!o) {
-      std::remove(tmp.c_str());
-      throw ClError("choosing a device: cannot write the device-speed cache " + path +
-                    " (set $ARCHWAVE_DEVICE_CACHE to a writable file, or pass --device)");
-    }
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::remove(tmp.c_str());
-    throw ClError("choosing a device: cannot write the device-speed cache " + path + ": " + ec.message() +
+  // Write then rename (film/image_io.h), so that two renders starting at once never read half a file.
+  try {
+    write_text_file("the device-speed cache", path, j.dump(2) + "\n");
+  } catch (const OutputError& e) {
+    throw ClError(std::string("choosing a device: ") + e.what() +
                   " (set $ARCHWAVE_DEVICE_CACHE to a writable file, or pass --device)");
   }
 }
@@ -162,14 +159,9 @@ DeviceChoice choose_default_device(const std::string& cache_path, bool remeasure
   if (devices.size() == 1) return {0, "the only OpenCL device"};
 
   std::vector<DeviceSpeed> cache = remeasure ? std::vector<DeviceSpeed>{} : read_device_cache(cache_path, log);
-  auto find = [&](const std::string& key) -> DeviceSpeed* {
-    for (auto& s : cache)
-      if (s.key == key) return &s;
-    return nullptr;
-  };
   std::vector<int> todo;
   for (const auto& d : devices)
-    if (!find(device_speed_key(d))) todo.push_back(d.index);
+    if (!find_speed(cache, d)) todo.push_back(d.index);
   if (!todo.empty()) {
     log << "archwave: measuring " << todo.size() << " OpenCL device" << (todo.size() > 1 ? "s" : "")
         << " once, to render on the fastest (a few seconds each; cached in " << cache_path
@@ -208,9 +200,7 @@ DeviceChoice pick_fastest(const std::vector<DeviceInfo>& devices, const std::vec
   double best_speed = 0.0;
   std::ostringstream all;
   for (const auto& d : devices) {
-    const DeviceSpeed* s = nullptr;
-    for (const auto& e : speeds)
-      if (e.key == device_speed_key(d)) s = &e;
+    const DeviceSpeed* s = find_speed(speeds, d);
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.3g", s ? s->msamples_per_s : 0.0);
     all << (&d == &devices.front() ? "" : ", ") << "[" << d.index << "] "
