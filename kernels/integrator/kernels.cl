@@ -40,34 +40,13 @@
 // AVX2 AMD EPYC, 256x256 x 16 spp, two interleaved runs (docs/performance.md "Per-stage
 // vectorisation on Intel's runtime"): traversal vectorised gathers 16 rays' nodes per lane and
 // runs at 0.4x its scalar speed (closest 3.5-3.9 vs 8.1-9.0 M rays/s, shadow 3.2-3.9 vs
-// 11.6-12.8 on the Cornell box), so the ray stages and the light bookkeeping stages are scalar;
+// 11.6-12.8 on the Cornell box), so the ray stages and the bookkeeping stages are scalar;
 // the shading stages stay vectorised (equal here, ahead where the vector units are wider).
 // Whole render: Cornell 0.32-0.36 -> 0.54-0.55 Msamples/s, every-lobe scene 0.43-0.49 -> 0.69-0.71.
-// AW_K_<stage> may be redefined by build options, for measurement.
 #define AW_STAGE_KERNEL_SCALAR(name)                                                  \
   __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
       const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
-#ifndef AW_K_intersect_closest
-#define AW_K_intersect_closest AW_STAGE_KERNEL_SCALAR
-#endif
-#ifndef AW_K_intersect_shadow
-#define AW_K_intersect_shadow AW_STAGE_KERNEL_SCALAR
-#endif
-#ifndef AW_K_classify_hit
-#define AW_K_classify_hit AW_STAGE_KERNEL_SCALAR
-#endif
-#ifndef AW_K_film_accumulate
-#define AW_K_film_accumulate AW_STAGE_KERNEL_SCALAR
-#endif
-#ifndef AW_K_accumulate
-#define AW_K_accumulate AW_STAGE_KERNEL_SCALAR
-#endif
-#ifndef AW_K_regenerate
-#define AW_K_regenerate AW_STAGE_KERNEL_SCALAR
-#endif
-#ifndef AW_K_shade
-#define AW_K_shade AW_STAGE_KERNEL
-#endif
+
 
 // The path in slot `slot` and the scene, from the stage arguments.
 #define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, rp.pool_size, (slot))
@@ -146,7 +125,7 @@ static inline int stage_slot(uint i, uint qid, uint count, uint dense, const __g
 }
 #define AW_STAGE_SLOT(qid, slot) stage_slot(get_global_id(0), (qid), count, dense, queues, tags, su, rp.pool_size, &(slot))
 
-AW_K_regenerate(kernel_regenerate) {
+AW_STAGE_KERNEL_SCALAR(kernel_regenerate) {
   AW_APPEND_LOCALS;
   uint i = get_global_id(0);
   uint q = AW_Q_COUNT;
@@ -159,13 +138,13 @@ AW_K_regenerate(kernel_regenerate) {
   AW_APPEND(q, slot);
 }
 
-AW_K_intersect_closest(kernel_intersect_closest) {
+AW_STAGE_KERNEL_SCALAR(kernel_intersect_closest) {
   uint slot = 0u;
   if (!AW_STAGE_SLOT(AW_Q_RAY, slot)) return;
   intersect_closest(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
 }
 
-AW_K_classify_hit(kernel_classify_hit) {
+AW_STAGE_KERNEL_SCALAR(kernel_classify_hit) {
   AW_APPEND_LOCALS;
   uint slot = 0u;
   uint q = AW_Q_COUNT;
@@ -186,7 +165,7 @@ AW_STAGE_KERNEL(kernel_pass_through) {
 // its own constant lobe id. A lobe this build lacks keeps its entry point, empty: the host
 // never launches it (FeatureSet::lobe), and the per-hit check keeps paths out of its queue.
 #define AW_SHADE_KERNEL(ID, name, FEATURE, TRAITS)                                       \
-  AW_K_shade(kernel_shade_##name) {                                                      \
+  AW_STAGE_KERNEL(kernel_shade_##name) {                                                 \
     AW_APPEND_LOCALS;                                                                    \
     uint slot = 0u;                                                                      \
     uint q = AW_Q_COUNT, qs = AW_Q_COUNT;                                                \
@@ -201,7 +180,7 @@ AW_STAGE_KERNEL(kernel_pass_through) {
 AW_LOBE_LIST(AW_SHADE_KERNEL)
 #undef AW_SHADE_KERNEL
 
-AW_K_intersect_shadow(kernel_intersect_shadow) {
+AW_STAGE_KERNEL_SCALAR(kernel_intersect_shadow) {
   uint slot = 0u;
   if (!AW_STAGE_SLOT(AW_Q_SHADOW, slot)) return;
   intersect_shadow(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
@@ -209,7 +188,7 @@ AW_K_intersect_shadow(kernel_intersect_shadow) {
 
 // A split path (integrator/split.h) goes back to its first-hit lobe queue until its last
 // split ends; only then does the job's value (the mean of the splits) reach `samples`.
-AW_K_accumulate(kernel_accumulate) {
+AW_STAGE_KERNEL_SCALAR(kernel_accumulate) {
   AW_APPEND_LOCALS;
   uint slot = 0u;
   uint q = AW_Q_COUNT;
@@ -233,7 +212,7 @@ AW_K_accumulate(kernel_accumulate) {
 // Adds a finished batch to the film, one work-item per pixel, samples in increasing sample
 // order: the same summation order as the scalar path, so the two films match bit for bit
 // when the sample values do, whatever the pool size or batch split.
-AW_K_film_accumulate(kernel_film_accumulate) {
+AW_STAGE_KERNEL_SCALAR(kernel_film_accumulate) {
   uint p = get_global_id(0);
   uint npix = rp.width * rp.height;
   if (p >= npix) return;
