@@ -1,5 +1,7 @@
 #include "host/cl/cl_runtime.h"
 
+#include "host/cl/kernel_cache.h"
+
 #include <cctype>
 #include <chrono>
 #include <cstdlib>
@@ -139,6 +141,30 @@ ClRuntime::ClRuntime(int device_index) {
 
 cl::Program ClRuntime::build(const std::string& source, const std::string& options, double* seconds) {
   auto t0 = std::chrono::steady_clock::now();
+  auto done = [&](cl::Program p) {
+    if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return p;
+  };
+  // The compiled program from the disk cache (host/cl/kernel_cache.h), on every device whose
+  // runtime does not cache its own: not on PoCL, which does ($POCL_CACHE_DIR), and where
+  // loading its binary would only add a step.
+  const bool pocl = info_.platform.find("Portable Computing Language") != std::string::npos;
+  KernelCache cache(pocl ? std::string() : kernel_cache_dir(),
+                    info_.platform + "\n" + info_.name + "\n" + info_.version + "\n" + info_.driver + "\n" +
+                        options + "\n" + source);
+  last_build_ = cache.enabled() ? "compiled (binary cache miss)" : pocl ? "PoCL's cache" : "compiled (binary cache off)";
+  std::vector<unsigned char> binary;
+  if (cache.load(&binary)) {
+    try {
+      cl::Program cached(context_, {info_.device}, cl::Program::Binaries{binary});
+      cached.build({info_.device}, options.c_str());
+      last_build_ = "binary cache hit";
+      return done(cached);
+    } catch (const cl::Error&) {
+      // A binary the runtime refuses (an update it did not announce in its versions): compile.
+      last_build_ = "compiled (cached binary refused)";
+    }
+  }
   cl::Program program(context_, source);
   try {
     program.build({info_.device}, options.c_str());
@@ -160,8 +186,19 @@ cl::Program ClRuntime::build(const std::string& source, const std::string& optio
     } catch (const cl::Error&) {
     }
   }
-  if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  return program;
+  if (cache.enabled()) {
+    std::string why;
+    try {
+      auto binaries = program.getInfo<CL_PROGRAM_BINARIES>();
+      if (binaries.size() == 1) why = cache.store(binaries[0]);
+    } catch (const cl::Error& e) {
+      why = std::string("the runtime gave no binary (") + cl_error_name(e.err()) + ")";
+    }
+    if (!why.empty())
+      std::cerr << "archwave: warning: kernel binary cache: " << why
+                << " (the next render compiles again; $ARCHWAVE_KERNEL_CACHE names another directory, 0 turns it off)\n";
+  }
+  return done(program);
 }
 
 cl::Buffer ClRuntime::buffer(const char* what, size_t bytes, cl_mem_flags flags, const void* init) {

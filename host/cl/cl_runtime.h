@@ -64,7 +64,12 @@ class ClRuntime {
 
   // Builds a program from assembled source; on failure throws ClError carrying the build log.
   // Records the wall time of the build (cold or cached) in *seconds when given.
+  // Uses the disk cache of compiled programs (host/cl/kernel_cache.h) where the runtime has
+  // none of its own.
   cl::Program build(const std::string& source, const std::string& options, double* seconds = nullptr);
+  // How the last build() got its program: "binary cache hit", "compiled (binary cache miss)",
+  // "PoCL's cache" (PoCL compiles or reuses its own), ... (the render stats show it).
+  const std::string& last_build() const { return last_build_; }
 
   // A device buffer of `bytes` (at least 1 byte, OpenCL forbids empty buffers). Refuses,
   // with the sizes, what exceeds the device's largest single allocation. `what` names the
@@ -77,6 +82,7 @@ class ClRuntime {
 
  private:
   DeviceInfo info_;
+  std::string last_build_;
   uint64_t allocated_bytes_ = 0;
   cl::Context context_;
   cl::CommandQueue queue_;

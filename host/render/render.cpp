@@ -43,8 +43,8 @@ std::string RenderStats::summary() const {
   s << "renderer        " << renderer << " on " << device << "\n";
   if (!device_choice.empty()) s << "device choice   " << device_choice << "\n";
   if (!kernel_features.empty()) s << "kernels         " << kernel_features << "\n";
-  std::snprintf(buf, sizeof buf, "time            %.3f s total (BVH %.3f s, kernel build %.3f s)\n", total_seconds,
-                bvh_seconds, compile_seconds);
+  std::snprintf(buf, sizeof buf, "time            %.3f s total (BVH %.3f s, kernel build %.3f s%s%s)\n",
+                total_seconds, bvh_seconds, compile_seconds, kernel_build.empty() ? "" : ": ", kernel_build.c_str());
   s << buf;
   double traced = 0.0;
   for (const auto& st : stage_seconds) traced += st.second;

@@ -36,6 +36,7 @@ struct RenderStats {
   double total_seconds = 0.0;
   double bvh_seconds = 0.0;
   double compile_seconds = 0.0;
+  std::string kernel_build;  // how the program was had (ClRuntime::last_build), "" for the scalar path
   std::string kernel_features;  // "generic" or the specialised feature list
   std::vector<std::pair<std::string, double>> stage_seconds;  // in pipeline order
   std::vector<uint64_t> stage_items;  // paths (or pixels) each stage processed, same order

@@ -29,6 +29,7 @@ nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
       {"samples", st.samples},
       {"total_seconds", st.total_seconds},
       {"compile_seconds", st.compile_seconds},
+      {"kernel_build", st.kernel_build},
       {"bvh_seconds", st.bvh_seconds},
       {"render_seconds", std::max(0.0, st.total_seconds - st.compile_seconds - st.bvh_seconds)},
       {"stages", stages},

@@ -161,6 +161,7 @@ class Wavefront {
     std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
                           (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
     program_ = rt_.build(src, options, &st_.compile_seconds);
+    st_.kernel_build = rt_.last_build();
   }
 
   void allocate() {
