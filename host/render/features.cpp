@@ -63,6 +63,9 @@ FeatureSet decide_features(const PackedScene& scene, const RenderSettings& setti
     if (l.type == AW_LIGHT_DISK) f.on[FeatureSet::LIGHT_DISK] = true;
     if (l.type == AW_LIGHT_SPHERE) f.on[FeatureSet::LIGHT_SPHERE] = true;
   }
+  // The sampler (Sobol' is in every build).
+  if (settings.sampler == RenderSettings::Sampler::Independent) f.on[FeatureSet::SAMPLER_INDEPENDENT] = true;
+  if (settings.sampler == RenderSettings::Sampler::ZSobol) f.on[FeatureSet::SAMPLER_ZSOBOL] = true;
   // Per-lobe samples split the first hit's rays (docs/material.md §6) only when some lobe that
   // a material can choose at all gets n = round(samples / spp) >= 2; otherwise splitting
   // changes nothing and the kernels are built without it (kernels/integrator/split.h).

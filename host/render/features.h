@@ -32,7 +32,7 @@ struct FeatureSet {
 };
 
 // The one decision of what a scene uses, from its packed materials and lights and its render
-// settings (lobe splitting). Conservative: a feature is on when any material or light could
+// settings (lobe splitting, the sampler). Conservative: a feature is on when any material or light could
 // use it. The kernels still check (classify_hit counts a path that meets a compiled-out
 // feature; the renderer then fails). pack_scene calls it and keeps the result in
 // PackedScene::features; nothing else decides a feature.

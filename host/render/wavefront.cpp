@@ -155,8 +155,11 @@ class Wavefront {
     std::string lack;
     for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE})
       if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
+    // Nor can they check the sampler: one the build lacks would fall through to Sobol'.
+    for (int i : {FeatureSet::SAMPLER_INDEPENDENT, FeatureSet::SAMPLER_ZSOBOL})
+      if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
     if (!lack.empty())
-      throw std::logic_error("the scene has lights of a type the specialised kernels lack (" + lack + "; built: " +
+      throw std::logic_error("the scene has lights or a sampler of a kind the specialised kernels lack (" + lack + "; built: " +
                              st_.kernel_features + "); the image would be wrong, so none is rendered");
     std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
                           (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;

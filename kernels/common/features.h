@@ -34,10 +34,15 @@
   X(FRESNEL_CURVE)     /* ... fresnel.use_ior false (facing/perpendicular/curve) */            \
   X(THIN_WALLED)       /* refraction.thin_walled on a material that reflects or transmits */
 
-// Scene features: light types and lobe splitting, decided from the scene as a whole.
+// Scene features: light types, lobe splitting and the sampler, decided from the scene as a whole.
+// The Owen-scrambled Sobol' sampler (the default, and zsobol's continuation past its block) is
+// always built; the other two only when render.sampler names them. A sampler switch on a run-time
+// value costs the shading stages 6-11% (docs/performance.md, "The sampler, built in"): Intel's
+// vectoriser cannot tell that the value is the same for every work-item and runs all three.
 #define AW_SCENE_FEATURE_LIST(X) \
   X(LIGHT_POINT) X(LIGHT_QUAD) X(LIGHT_DISK) X(LIGHT_SPHERE) \
-  X(SPLIT) /* per-lobe samples split rays at the first hit (integrator/split.h) */
+  X(SPLIT) /* per-lobe samples split rays at the first hit (integrator/split.h) */ \
+  X(SAMPLER_INDEPENDENT) X(SAMPLER_ZSOBOL) /* render.sampler (common/rng.h) */
 
 #define AW_FEATURE_LIST(X) AW_MATERIAL_FEATURE_LIST(X) AW_SCENE_FEATURE_LIST(X)
 

@@ -34,6 +34,7 @@
 #define AW_COMMON_RNG_H
 
 #include "common/compat.h"
+#include "common/features.h"
 
 // Dimensions used at each bounce. Every consumer owns a fixed slot; a 2D sample uses two
 // outputs of one hash, so dimension numbers name hashes, not floats.
@@ -297,16 +298,20 @@ AW_FN float rng_zsobol_1d(Sampler s, uint pixel, uint sample, uint bounce, uint 
 
 /* ------------------------------------ the interface -------------------------------------- */
 
+// A build has only the samplers its scene uses (common/features.h: Sobol' always; the host
+// refuses a render whose sampler the build lacks, host/render/wavefront.cpp).
 AW_FN float2 rng_2d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
-  if (s.kind == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(s.seed, pixel, sample, bounce, dim);
-  if (s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_2d(s, pixel, sample, bounce, dim);
+  if (AW_FEAT_SAMPLER_INDEPENDENT && s.kind == AW_SAMPLER_INDEPENDENT)
+    return rng_independent_2d(s.seed, pixel, sample, bounce, dim);
+  if (AW_FEAT_SAMPLER_ZSOBOL && s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_2d(s, pixel, sample, bounce, dim);
   return rng_sobol_2d(s.seed, pixel, sample, bounce, dim);
 }
 
 // The first coordinate of the 2-D set (the same number rng_2d(...).x gives).
 AW_FN float rng_1d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
-  if (s.kind == AW_SAMPLER_INDEPENDENT) return rng_independent_2d(s.seed, pixel, sample, bounce, dim).x;
-  if (s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_1d(s, pixel, sample, bounce, dim);
+  if (AW_FEAT_SAMPLER_INDEPENDENT && s.kind == AW_SAMPLER_INDEPENDENT)
+    return rng_independent_2d(s.seed, pixel, sample, bounce, dim).x;
+  if (AW_FEAT_SAMPLER_ZSOBOL && s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_1d(s, pixel, sample, bounce, dim);
   return rng_sobol_1d(s.seed, pixel, sample, bounce, dim);
 }
 

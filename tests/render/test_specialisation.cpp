@@ -27,6 +27,13 @@ TEST(Specialisation, FeaturesDerivedFromTheScene) {
                  aw::FeatureSet::INCANDESCENCE, aw::FeatureSet::FRESNEL_CONDUCTOR, aw::FeatureSet::FRESNEL_CURVE,
                  aw::FeatureSet::THIN_WALLED, aw::FeatureSet::LIGHT_QUAD, aw::FeatureSet::LIGHT_POINT})
     EXPECT_TRUE(g.on[id]) << aw::FeatureSet::name(id);
+  // The sampler: Sobol' (the default) is in every build, the others only where the scene asks.
+  EXPECT_EQ(aw::pack_scene(aw::load_scene(src("scenes/cornell.json"), {"render.sampler=independent"}), nullptr)
+                .features.describe(),
+            "light_point light_quad sampler_independent");
+  EXPECT_EQ(aw::pack_scene(aw::load_scene(src("scenes/cornell.json"), {"render.sampler=zsobol"}), nullptr)
+                .features.describe(),
+            "light_point light_quad sampler_zsobol");
   // Every reflection lobe there is GGX (the default): no other BRDF is built.
   for (int id : {aw::FeatureSet::CUTOUT, aw::FeatureSet::BRDF_BECKMANN, aw::FeatureSet::BRDF_AS,
                  aw::FeatureSet::LIGHT_SPHERE, aw::FeatureSet::LIGHT_DISK})
@@ -79,7 +86,12 @@ TEST(Specialisation, SameImageAsGenericKernels) {
   const std::vector<std::string> other_brdfs = {"materials.floor.reflection.brdf=beckmann",
                                                 "materials.plastic.reflection.brdf=ashikhmin_shirley",
                                                 "materials.leaf.reflection.brdf=ashikhmin_shirley_legacy"};
-  const Case cases[] = {{"scenes/cornell.json", {}}, {"scenes/materials.json", {}}, {"scenes/materials.json", other_brdfs}};
+  // The Cornell box also with each sampler that is a feature (common/rng.h).
+  const Case cases[] = {{"scenes/cornell.json", {}},
+                        {"scenes/cornell.json", {"render.sampler=independent"}},
+                        {"scenes/cornell.json", {"render.sampler=zsobol"}},
+                        {"scenes/materials.json", {}},
+                        {"scenes/materials.json", other_brdfs}};
   for (const Case& c : cases) {
     std::vector<std::string> defs = {"render.width=96", "render.height=64", "render.spp=4"};
     defs.insert(defs.end(), c.defs.begin(), c.defs.end());
@@ -97,7 +109,7 @@ TEST(Specialisation, SameImageAsGenericKernels) {
 }
 
 // A build that lacks a feature the scene uses must refuse to produce an image: every material
-// feature (checked at every hit in the kernels) and every light type (checked by the host).
+// feature (checked at every hit in the kernels), every light type and sampler (checked by the host).
 // Each case gives the Cornell box's white material one feature; most cases then build the
 // same few programs (the scene's features minus the one turned off), so PoCL compiles three.
 TEST(Specialisation, MissingFeatureIsNeverSilentlyIgnored) {
@@ -124,6 +136,8 @@ TEST(Specialisation, MissingFeatureIsNeverSilentlyIgnored) {
       {"THIN_WALLED", {refr, "materials.white.refraction.thin_walled=true"}},
       {"LIGHT_QUAD", {}},
       {"LIGHT_POINT", {}},
+      {"SAMPLER_INDEPENDENT", {"render.sampler=independent"}},
+      {"SAMPLER_ZSOBOL", {"render.sampler=zsobol"}},
   };
   for (const Case& c : cases) {
     std::vector<std::string> defs = {"render.width=32", "render.height=32", "render.spp=2"};
