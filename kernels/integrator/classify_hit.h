@@ -184,8 +184,17 @@ AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const
   float total = 0.0f;
   for (uint i = 0; i < AW_LID_COUNT; ++i) total += lw.prob[i];
   if (!(total > 0.0f)) return AW_Q_DONE;
-  for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] /= total;
-  uint lid = material_pick_lobe(&lw, rng_1d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE));
+  uint with_energy = 0u;
+  for (uint i = 0; i < AW_LID_COUNT; ++i) {
+    lw.prob[i] /= total;
+    with_energy += lw.prob[i] > 0.0f;
+  }
+  // One lobe with energy (a Lambert surface, a plain mirror): material_pick_lobe returns it for
+  // any u, so no random number is drawn for it (a Sobol' sample costs about as much as the rest
+  // of the choice; docs/performance.md, "Random numbers only where a choice exists").
+  float u_lobe = with_energy > 1u ? rng_1d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE)
+                                  : 0.0f;
+  uint lid = material_pick_lobe(&lw, u_lobe);
   if (lid >= AW_LID_COUNT) return AW_Q_DONE;
   if (!lobe_compiled(lid)) {  // unreachable after the material check in classify_hit; kept as a guard
     PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;

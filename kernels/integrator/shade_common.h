@@ -17,7 +17,9 @@
 AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, float3 p,
                                    uint* light, float* pdf) {
   uint pixel = PS_U(ps, pixel), sample = PS_U(ps, sample), bounce = PS_U(ps, bounce);
-  float u_pick = rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK);
+  // One light: light_pick returns it for any u (its alias entry keeps it with probability 1),
+  // so no random number is drawn for the pick.
+  float u_pick = rp->num_lights > 1u ? rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK) : 0.0f;
   *light = light_pick(sc.lights, rp->num_lights, u_pick);
   const AW_GLOBAL LightGpu* l = &sc.lights[*light];
   LightSample ls = light_sample(l, p, rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT));
