@@ -19,6 +19,28 @@ AW_FN void sincos_quarter(float x, float* s, float* c) {
   *c = 1.0f - 0.5f * z + z * z * (4.166664568298827e-2f + z * (-1.388731625493765e-3f + z * 2.443315711809948e-5f));
 }
 
+// sin and cos of 2 pi u for u in [0, 1] (a uniformly sampled azimuth), through
+// sincos_quarter: 8u splits into an octant o and an exact fraction f (8u is exact, and so is
+// 8u - floor(8u)); the angle is q pi/2 + x (o = 2q) or (q + 1) pi/2 - x (o = 2q + 1) with
+// x in [0, pi/4], and a quarter turn only swaps and negates. Same reasons as above: no
+// argument reduction, the same rounding on every side.
+AW_FN void sincos_turn(float u, float* s, float* c) {
+  float t = 8.0f * u;
+  float o = floor(t);
+  float f = t - o;
+  int k = (int)o;
+  int odd = k & 1;
+  float sx, cx;
+  sincos_quarter((odd ? 1.0f - f : f) * (M_PI_F / 4.0f), &sx, &cx);
+  float a = cx, b = odd ? -sx : sx;  // cos and sin of +-x
+  switch (((k >> 1) + odd) & 3) {    // the quarter turns
+    case 0: *c = a; *s = b; break;
+    case 1: *c = -b; *s = a; break;
+    case 2: *c = -a; *s = -b; break;
+    default: *c = b; *s = -a; break;
+  }
+}
+
 // Concentric square-to-disk map: Shirley & Chiu 1997, "A Low Distortion Map Between Disk and
 // Square", Sec. 3 (in the polar form of Shirley's later note). Keeps strata compact. The angle
 // is phi = (pi/4)(b/a) in the wedges |a| > |b|, else pi/2 - (pi/4)(a/b); both are a quarter-range
@@ -49,8 +71,9 @@ AW_FN float pdf_cosine_hemisphere(float cos_theta) { return fmax(cos_theta, 0.0f
 AW_FN float3 sample_uniform_cone(float2 u, float cos_max) {
   float cos_t = 1.0f - u.x * (1.0f - cos_max);
   float sin_t = safe_sqrt(1.0f - cos_t * cos_t);
-  float phi = 2.0f * M_PI_F * u.y;
-  return make_float3(cos(phi) * sin_t, sin(phi) * sin_t, cos_t);
+  float sp, cp;
+  sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y
+  return make_float3(cp * sin_t, sp * sin_t, cos_t);
 }
 
 // Orthonormal basis from a unit normal without branches on a near-degenerate axis:

@@ -214,11 +214,12 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
       float omc = sphere_one_minus_cos_max(r2 / d2);
       float cos_t = 1.0f - u.x * omc;
       float sin2_t = fmax(0.0f, (1.0f - cos_t) * (1.0f + cos_t));
-      float phi = 2.0f * M_PI_F * u.y;
+      float sp, cp;
+      sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y
       float3 w = pc / dc, t, b;
       make_frame(w, &t, &b);
       float sin_t = sqrt(sin2_t);
-      s.wi = normalize(frame_to_world(make_float3(cos(phi) * sin_t, sin(phi) * sin_t, cos_t), t, b, w));
+      s.wi = normalize(frame_to_world(make_float3(cp * sin_t, sp * sin_t, cos_t), t, b, w));
       // Nearest intersection along the sampled direction; the max() guards rays that graze
       // the silhouette by round-off.
       s.dist = dc * cos_t - safe_sqrt(r2 - d2 * sin2_t);
@@ -229,8 +230,9 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
     // Inside the sphere: uniform area sampling of its surface.
     float z = 1.0f - 2.0f * u.x;
     float rxy = safe_sqrt(1.0f - z * z);
-    float phi = 2.0f * M_PI_F * u.y;
-    float3 nrm = make_float3(rxy * cos(phi), rxy * sin(phi), z);
+    float sp, cp;
+    sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y
+    float3 nrm = make_float3(rxy * cp, rxy * sp, z);
     y = c + l->radius * nrm;
   } else if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD) {
     SphRect r;

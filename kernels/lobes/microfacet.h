@@ -280,8 +280,8 @@ AW_FN float3 mf_sample_visible_ggx(Microfacet m, float3 wo, float2 u) {
   float3 t2 = cross(v, t1);
   float r = sqrt(u.x);
   float one_m_r2 = 1.0f - u.x;
-  float phi = 2.0f * M_PI_F * u.y;
-  float cp = cos(phi), sp = sin(phi);
+  float sp, cp;
+  sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y (common/sampling.h)
   float p1 = r * cp;
   float q = r * sp;  // p2' before the remap
   float c = sqrt(one_m_r2 + u.x * sp * sp);
