@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "host/cl/kernel_cache.h"
+#include "host/cl/kernel_source.h"
 #include "host/film/image_io.h"
 #include "host/render/render.h"
 #include "host/scene/scene.h"
@@ -97,8 +99,20 @@ double measure_device_speed(int index) {
   return best;
 }
 
+std::string kernel_source_hash(const std::string& kernel_dir) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx",
+                (unsigned long long)fnv1a64(assemble_kernel_source("integrator/kernels.cl", kernel_dir)));
+  return buf;
+}
+
 std::string device_speed_key(const DeviceInfo& d) {
-  return d.platform + " | " + d.name + " | " + d.version + " | " + d.driver + " | archwave " ARCHWAVE_VERSION;
+  // The kernels' own hash as well as the version: the figure measures the kernels, and a
+  // change to them (a new build of the same version) can reorder the devices (2026-12-02:
+  // three kernel changes made PoCL 15-20% faster and left Intel's runtime level).
+  static const std::string kernels = kernel_source_hash("");
+  return d.platform + " | " + d.name + " | " + d.version + " | " + d.driver + " | archwave " ARCHWAVE_VERSION +
+         " | kernels " + kernels;
 }
 
 std::string default_device_cache_path() {

@@ -37,7 +37,12 @@ DeviceChoice choose_default_device(const std::string& cache_path, bool remeasure
 // $ARCHWAVE_DEVICE_CACHE overrides both (the tests point it into their own directory).
 std::string default_device_cache_path();
 
+// What a measured speed is valid for: platform, device, versions, driver, archwave's version and
+// a hash of the wavefront's kernel source (embedded), so that changed kernels measure again.
 std::string device_speed_key(const DeviceInfo& d);
+// FNV-1a hash (host/cl/kernel_cache.h) of the assembled wavefront source from kernel_dir
+// ("" = the embedded copy), as 16 hex digits.
+std::string kernel_source_hash(const std::string& kernel_dir);
 
 // The measurement: the wavefront's Msamples/s on device `index` (path tracing only, BVH and
 // kernel build excluded). Throws what the render throws.

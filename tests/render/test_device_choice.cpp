@@ -62,6 +62,27 @@ TEST(DefaultDevice, FastestMeasuredDeviceWinsAndAFailedOneNever) {
   EXPECT_THROW(aw::pick_fastest(devs, {speed(devs[0], 0.0, "x")}, "C"), aw::ClError);
 }
 
+// The key names the kernels it measured: the embedded source's hash (the same as the source
+// tree's), which changes with any kernel file.
+TEST(DefaultDevice, KeyFollowsTheKernelSource) {
+  auto d = fake(0, "x");
+  const std::string tree = std::string(ARCHWAVE_SOURCE_DIR) + "/kernels";
+  const std::string h = aw::kernel_source_hash("");
+  EXPECT_EQ(h.size(), 16u);
+  EXPECT_EQ(h, aw::kernel_source_hash(tree));
+  EXPECT_NE(aw::device_speed_key(d).find(" | kernels " + h), std::string::npos) << aw::device_speed_key(d);
+  namespace fs = std::filesystem;
+  const std::string copy = temp_path("kernels_copy");
+  fs::remove_all(copy);
+  fs::copy(tree, copy, fs::copy_options::recursive);
+  {
+    std::ofstream f(copy + "/common/rng.h", std::ios::app);
+    f << "\n// changed\n";
+  }
+  EXPECT_NE(aw::kernel_source_hash(copy), h);
+  fs::remove_all(copy);
+}
+
 TEST(DefaultDevice, CacheRoundTripsAndABrokenFileIsMeasuredAgainWithAWarning) {
   std::string path = temp_path("speeds.json");
   auto d = fake(0, "x");
