@@ -1,8 +1,10 @@
 // OBJ meshes through tinyobjloader.
 #include <tiny_obj_loader.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -33,6 +35,54 @@ struct VertexKeyHash {
   }
 };
 
+// A decimal number as OBJ writers emit it: [+-] digits [. digits] [e [+-] digits] (or a
+// leading "."). tinyobjloader turns anything else, "nan", "inf", "1,5" or a word, silently
+// into 0, so such a file would render with vertices moved to the origin.
+bool is_decimal_number(const std::string& t) {
+  size_t i = 0, n = t.size();
+  if (i < n && (t[i] == '+' || t[i] == '-')) ++i;
+  size_t digits = 0;
+  while (i < n && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+  if (i < n && t[i] == '.') {
+    ++i;
+    while (i < n && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++digits;
+  }
+  if (digits == 0) return false;
+  if (i < n && (t[i] == 'e' || t[i] == 'E')) {
+    ++i;
+    if (i < n && (t[i] == '+' || t[i] == '-')) ++i;
+    size_t exp_digits = 0;
+    while (i < n && std::isdigit(static_cast<unsigned char>(t[i]))) ++i, ++exp_digits;
+    if (exp_digits == 0) return false;
+  }
+  return i == n;
+}
+
+// Every value of the vertex data lines (v, vn, vt) is a finite decimal number; otherwise
+// names the line, the statement and the value. Values that overflow float (1e999) are
+// refused here too, with their line.
+bool check_obj_numbers(const std::string& text, std::string* error) {
+  std::istringstream lines(text);
+  size_t line_no = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++line_no;
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream words(line);
+    std::string keyword;
+    if (!(words >> keyword) || (keyword != "v" && keyword != "vn" && keyword != "vt")) continue;
+    for (std::string value; words >> value;) {
+      const bool number = is_decimal_number(value);
+      if (!number || !std::isfinite(static_cast<float>(std::strtod(value.c_str(), nullptr)))) {
+        *error = "line " + std::to_string(line_no) + ": '" + keyword + "' value \"" + value +
+                 (number ? "\" is out of the range of float" : "\" is not a finite decimal number");
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool load_obj(const std::string& resolved_path, DMesh* out, std::string* error,
@@ -61,6 +111,7 @@ bool load_obj(const std::string& resolved_path, DMesh* out, std::string* error,
     *error = "read error";
     return false;
   }
+  if (!check_obj_numbers(contents.str(), error)) return false;
   std::istringstream stream(contents.str());
 
   tinyobj::attrib_t attrib;

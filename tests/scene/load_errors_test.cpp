@@ -68,7 +68,11 @@ const BadCase kBadCases[] = {
     {"bad_utf8_column.json", "2:25", "unknown key \"diffus\" (did you mean \"diffuse\"?)"},
     // The key's start is found even when it contains escaped quotes and backslashes.
     {"bad_escaped_key.json", "2:28", "unknown key \"we\"ird\\\""},
-    {"bad_inf_mesh.json", "4:24", "has a vertex coordinate or normal that is NaN or infinite"},
+    // OBJ values that are not finite decimal numbers: refused with the OBJ line (tinyobjloader
+    // alone would read "nan" or "0,5" as 0, and overflow to infinity).
+    {"bad_inf_mesh.json", "4:24", "inf_coord.obj\": line 2: 'v' value \"1e999\" is out of the range of float"},
+    {"bad_nan_mesh.json", "4:24", "nan_coord.obj\": line 4: 'v' value \"nan\" is not a finite decimal number"},
+    {"bad_word_uv_mesh.json", "4:24", "word_uv.obj\": line 7: 'vt' value \"1,5\" is not a finite decimal number"},
     {"bad_material_colour_type.json", "3:38",
      "materials.m.diffuse.color[1]: expected a number, got \"red\""},
     // Meshes carry one UV set: another one would silently orient anisotropy by set 0.
