@@ -18,6 +18,10 @@
 namespace aw {
 namespace scene_detail {
 
+// The deepest nesting of objects and arrays a scene file may have (parse_located_json refuses
+// more, at the first bracket beyond it).
+constexpr size_t kMaxJsonDepth = 256;
+
 // ordered_json keeps object members in file order: Scene::material_names must follow the file,
 // and "the first unknown key" in an error should be the first one the user wrote.
 using Json = nlohmann::ordered_json;

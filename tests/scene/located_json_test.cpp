@@ -82,6 +82,29 @@ TEST(LocatedJson, DuplicateKeysAreErrors) {
   EXPECT_NE(err.message.find("duplicate key \"a\""), std::string::npos);
 }
 
+// Nesting is limited (kMaxJsonDepth): the limit itself parses, one level more is refused at
+// that level's bracket, and so is a hostile file 100,000 levels deep (objects and arrays),
+// without building the deep paths (which made 20,000 levels take seconds) or recursing.
+TEST(LocatedJson, DeepNestingIsRefusedAtTheLimit) {
+  const size_t limit = aw::scene_detail::kMaxJsonDepth;
+  auto arrays = [](size_t n) { return std::string(n, '[') + std::string(n, ']'); };
+  LocatedJson doc;
+  JsonSyntaxError err;
+  EXPECT_TRUE(parse_located_json(arrays(limit), &doc, &err)) << err.message;
+  ASSERT_FALSE(parse_located_json(arrays(limit + 1), &doc, &err));
+  EXPECT_EQ(err.offset, limit);  // the bracket that opens level limit + 1
+  EXPECT_NE(err.message.find("nested deeper than " + std::to_string(limit) + " levels"), std::string::npos)
+      << err.message;
+  ASSERT_FALSE(parse_located_json("{\"materials\": " + arrays(100000) + "}", &doc, &err));
+  EXPECT_EQ(err.offset, 14u + limit - 1);  // after '{"materials": ' the root object is level 1
+  std::string objects;
+  for (int i = 0; i < 100000; ++i) objects += "{\"a\":";
+  objects += "1" + std::string(100000, '}');
+  ASSERT_FALSE(parse_located_json(objects, &doc, &err));
+  EXPECT_NE(err.message.find("nested deeper"), std::string::npos) << err.message;
+  EXPECT_EQ(err.offset, 5u * limit);
+}
+
 TEST(LineMapTest, ColumnsCountCharacters) {
   const std::string text = "ab\n\xC3\xA9x\ny";  // "é" is two bytes
   EXPECT_EQ(pos_of(text, 0), "1:1");
