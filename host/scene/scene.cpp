@@ -163,7 +163,12 @@ void parse_environment(const LoadContext& ctx, const Node& n, EnvironmentDesc* e
 
 // ---- lights ----------------------------------------------------------------------------------
 
-void parse_light(const LoadContext& ctx, const Node& n, LightDesc* l) {
+// Returns false for a degenerate area light (a quad whose edges span no area, a disk or sphere
+// of radius 0), which is dropped with a warning: exporters write such lights (a lamp scaled
+// to nothing, a placeholder), and one emits no power, so the image is the same without it.
+// (Degenerate triangles are kept, silently: the watertight test never hits them, so they cost
+// memory and nothing else; docs/scene-format.md.)
+bool parse_light(LoadContext& ctx, const Node& n, LightDesc* l) {
   expect_object_any_keys(ctx, n);
   const Node type_node = require(ctx, n, "type");
   const std::string type = read_string(ctx, type_node);
@@ -201,7 +206,7 @@ void parse_light(const LoadContext& ctx, const Node& n, LightDesc* l) {
   if_present(n, "position", [&](const Node& c) { l->position = to_f(read_vec3(ctx, c)); });
   if_present(n, "center", [&](const Node& c) { l->center = to_f(read_vec3(ctx, c)); });
   if_present(n, "radius", [&](const Node& c) {
-    l->radius = static_cast<float>(read_number_in(ctx, c, Range{0, kInf, true}));
+    l->radius = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
   });
   if_present(n, "normal", [&](const Node& c) {
     const glm::dvec3 v = read_vec3(ctx, c);
@@ -215,8 +220,16 @@ void parse_light(const LoadContext& ctx, const Node& n, LightDesc* l) {
   if_present(n, "visible", [&](const Node& c) { l->visible = read_bool(ctx, c); });
   if (l->type == LightDesc::Type::Quad &&
       !(glm::length(glm::cross(glm::dvec3(l->edge_u), glm::dvec3(l->edge_v))) > 0)) {
-    ctx.fail(join_key(n.path, "edge_v"), "edge_u and edge_v must span a non-zero area");
+    ctx.warn(has(n, "edge_v") ? join_key(n.path, "edge_v") : n.path,
+             "quad light with zero area (edge_u and edge_v are zero or parallel): it emits nothing and is dropped");
+    return false;
   }
+  if ((l->type == LightDesc::Type::Disk || l->type == LightDesc::Type::Sphere) && !(l->radius > 0.0f)) {
+    ctx.warn(join_key(n.path, "radius"), std::string(l->type == LightDesc::Type::Disk ? "disk" : "sphere") +
+                                             " light of radius 0: it emits nothing and is dropped");
+    return false;
+  }
+  return true;
 }
 
 // ---- objects ---------------------------------------------------------------------------------
@@ -487,8 +500,7 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides) {
     expect_array(ctx, c);
     for (size_t i = 0; i < c.j->size(); ++i) {
       LightDesc l;
-      parse_light(ctx, element(c, i), &l);
-      scene.lights.push_back(l);
+      if (parse_light(ctx, element(c, i), &l)) scene.lights.push_back(l);
     }
   });
   if_present(root, "textures", [&](const Node& c) {

@@ -18,8 +18,8 @@ namespace {
 
 // One scene per material: a sphere, a quad at grazing view, and an OBJ-free degenerate
 // triangle fan (a disk of radius ~0 collapses to degenerate triangles), lit by every light
-// type including a vanishingly small quad (exactly zero area is refused by the loader with an
-// error) and a tiny, very bright sphere.
+// type including a vanishingly small quad and a tiny, very bright sphere, plus lights of
+// exactly zero area or radius (the loader drops those with a warning).
 std::string scene_for(const std::string& material) {
   std::string json = R"({
   "render": { "width": 24, "height": 16, "spp": 8, "seed": 5, "max_depth": 12 },
@@ -30,7 +30,10 @@ std::string scene_for(const std::string& material) {
     { "type": "quad", "corner": [1, 2, 0], "edge_u": [1e-9, 0, 0], "edge_v": [0, 0, 1e-9], "intensity": 5 },
     { "type": "disk", "center": [-2, 2, 1], "normal": [1, -1, 0], "radius": 0.3, "intensity": 5 },
     { "type": "sphere", "center": [2, 1, 1], "radius": 0.0001, "intensity": 1000 },
-    { "type": "point", "position": [0, 2, 2], "intensity": 3 }
+    { "type": "point", "position": [0, 2, 2], "intensity": 3 },
+    { "type": "quad", "corner": [1, 2, 0], "edge_u": [0, 0, 0], "edge_v": [0, 0, 1], "intensity": 5 },
+    { "type": "sphere", "center": [2, 1, 1], "radius": 0, "intensity": 1000 },
+    { "type": "disk", "center": [-2, 2, 1], "radius": 0, "intensity": 5 }
   ],
   "materials": { "m": )" + material + R"( },
   "objects": [

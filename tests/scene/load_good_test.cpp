@@ -306,6 +306,24 @@ TEST(SceneWarnings, OutOfRangeMaterialValuesAreClampedWithOneWarningEach) {
   EXPECT_TRUE(saw_weight);
 }
 
+// Degenerate area lights (what exporters write for a lamp scaled to nothing) are dropped with
+// a warning at their key, not refused; the proper light after them is kept.
+TEST(SceneWarnings, DegenerateAreaLightsAreDroppedWithAWarning) {
+  const aw::Scene s = aw::load_scene(data_path("good_degenerate_lights.json"));
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].type, aw::LightDesc::Type::Quad);
+  EXPECT_FLOAT_EQ(s.lights[0].edge_v.z, 1.0f);
+  ASSERT_EQ(s.warnings.size(), 3u);
+  const std::string prefix = data_path("good_degenerate_lights.json");
+  EXPECT_EQ(s.warnings[0].rfind(prefix + ":4:65: warning: lights[0].edge_v: quad light with zero area", 0), 0u)
+      << s.warnings[0];
+  EXPECT_EQ(s.warnings[1].rfind(prefix + ":5:46: warning: lights[1].radius: sphere light of radius 0", 0), 0u)
+      << s.warnings[1];
+  EXPECT_EQ(s.warnings[2].rfind(prefix + ":6:44: warning: lights[2].radius: disk light of radius 0", 0), 0u)
+      << s.warnings[2];
+  for (const std::string& w : s.warnings) EXPECT_NE(w.find("is dropped"), std::string::npos) << w;
+}
+
 TEST(SceneWarnings, NotYetImplementedRefractionFeaturesWarn) {
   const aw::Scene s = aw::load_scene(data_path("good_not_implemented.json"));
   ASSERT_EQ(s.warnings.size(), 2u);
