@@ -22,17 +22,19 @@ void embree_error(void*, RTCError code, const char* str) {
 // with the RTCBVH).
 struct BuildNode {
   bool leaf;
-  BuildNode* child[2];
-  RTCBounds bounds[2];
+  unsigned num;  // inner: children in use (2..AW_BVH_WIDTH)
+  BuildNode* child[AW_BVH_WIDTH];
+  RTCBounds bounds[AW_BVH_WIDTH];
   uint32_t count;
   const uint32_t* prims;  // leaf: primIDs (in Embree's allocator memory)
 };
 
 void* create_node(RTCThreadLocalAllocator alloc, unsigned num_children, void*) {
-  if (num_children != 2) return nullptr;  // maxBranchingFactor is 2
+  if (num_children < 1 || num_children > AW_BVH_WIDTH) return nullptr;  // maxBranchingFactor
   auto* n = static_cast<BuildNode*>(rtcThreadLocalAlloc(alloc, sizeof(BuildNode), 16));
   n->leaf = false;
-  n->child[0] = n->child[1] = nullptr;
+  n->num = num_children;
+  for (BuildNode*& c : n->child) c = nullptr;
   n->count = 0;
   n->prims = nullptr;
   return n;
@@ -40,12 +42,13 @@ void* create_node(RTCThreadLocalAllocator alloc, unsigned num_children, void*) {
 
 void set_children(void* node, void** children, unsigned num, void*) {
   auto* n = static_cast<BuildNode*>(node);
-  for (unsigned i = 0; i < num && i < 2; ++i) n->child[i] = static_cast<BuildNode*>(children[i]);
+  n->num = std::min<unsigned>(num, AW_BVH_WIDTH);
+  for (unsigned i = 0; i < n->num; ++i) n->child[i] = static_cast<BuildNode*>(children[i]);
 }
 
 void set_bounds(void* node, const RTCBounds** bounds, unsigned num, void*) {
   auto* n = static_cast<BuildNode*>(node);
-  for (unsigned i = 0; i < num && i < 2; ++i) n->bounds[i] = *bounds[i];
+  for (unsigned i = 0; i < num && i < AW_BVH_WIDTH; ++i) n->bounds[i] = *bounds[i];
 }
 
 void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims, size_t num, void*) {
@@ -99,14 +102,24 @@ struct Flattener {
     return ~((first << 3) | int(n - 1));
   }
 
-  static void put_bounds(BvhNode& node, int i, const RTCBounds& b) {
-    // f4[0]/f4[1]: x and y of child 0/1; f4[2]: z of both (kernels/types/bvh.h).
-    node.bounds[i * 4 + 0] = b.lower_x;
-    node.bounds[i * 4 + 1] = b.upper_x;
-    node.bounds[i * 4 + 2] = b.lower_y;
-    node.bounds[i * 4 + 3] = b.upper_y;
-    node.bounds[8 + i * 2 + 0] = b.lower_z;
-    node.bounds[8 + i * 2 + 1] = b.upper_z;
+  // Slot i of a node: its box in the structure-of-arrays rows and its child reference
+  // (kernels/types/bvh.h).
+  static void put_child(BvhNode& node, int i, const RTCBounds& b, int ref) {
+    node.lo_x[i] = b.lower_x;
+    node.hi_x[i] = b.upper_x;
+    node.lo_y[i] = b.lower_y;
+    node.hi_y[i] = b.upper_y;
+    node.lo_z[i] = b.lower_z;
+    node.hi_z[i] = b.upper_z;
+    node.child[i] = ref;
+  }
+
+  // A node with no children yet: every slot empty (zero box, AW_BVH_EMPTY), padding zero.
+  static BvhNode empty_node() {
+    BvhNode node;
+    std::memset(&node, 0, sizeof(node));
+    for (int& c : node.child) c = AW_BVH_EMPTY;
+    return node;
   }
 
   // A leaf larger than the kernel's limit (possible when Embree hits maxDepth) is split in
@@ -118,36 +131,31 @@ struct Flattener {
   }
 
   int emit_inner_from_list(const uint32_t* a, uint32_t na, const uint32_t* b, uint32_t nb, int depth) {
-    if (depth >= AW_BVH_STACK_SIZE - 1) throw std::runtime_error("BVH deeper than the traversal stack");
+    if (depth >= AW_BVH_MAX_DEPTH - 1) throw std::runtime_error("BVH deeper than the traversal stack");
     out.max_depth = std::max(out.max_depth, depth);
     int index = int(out.nodes.size());
     out.nodes.emplace_back();
     RTCBounds ba = tri_bounds(a, na), bb = tri_bounds(b, nb);
     int c0 = child_ref(a, na, depth + 1);
     int c1 = child_ref(b, nb, depth + 1);
-    BvhNode& node = out.nodes[size_t(index)];
-    std::memset(&node, 0, sizeof(node));
-    put_bounds(node, 0, ba);
-    put_bounds(node, 1, bb);
-    node.child[0] = c0;
-    node.child[1] = c1;
+    BvhNode node = empty_node();
+    put_child(node, 0, ba, c0);
+    put_child(node, 1, bb, c1);
+    out.nodes[size_t(index)] = node;
     return index;
   }
 
   int emit(const BuildNode* n, int depth) {
     if (n->leaf) return child_ref(n->prims, n->count, depth);
-    if (depth >= AW_BVH_STACK_SIZE - 1) throw std::runtime_error("BVH deeper than the traversal stack");
+    if (depth >= AW_BVH_MAX_DEPTH - 1) throw std::runtime_error("BVH deeper than the traversal stack");
     out.max_depth = std::max(out.max_depth, depth);
     int index = int(out.nodes.size());
     out.nodes.emplace_back();  // children are emitted after their parent: depth-first preorder
-    int c0 = emit(n->child[0], depth + 1);
-    int c1 = emit(n->child[1], depth + 1);
-    BvhNode& node = out.nodes[size_t(index)];
-    std::memset(&node, 0, sizeof(node));
-    put_bounds(node, 0, n->bounds[0]);
-    put_bounds(node, 1, n->bounds[1]);
-    node.child[0] = c0;
-    node.child[1] = c1;
+    int refs[AW_BVH_WIDTH];
+    for (unsigned i = 0; i < n->num; ++i) refs[i] = emit(n->child[i], depth + 1);
+    BvhNode node = empty_node();
+    for (unsigned i = 0; i < n->num; ++i) put_child(node, int(i), n->bounds[i], refs[i]);
+    out.nodes[size_t(index)] = node;
     return index;
   }
 };
@@ -183,8 +191,8 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
   args.byteSize = sizeof(args);
   args.buildFlags = RTC_BUILD_FLAG_NONE;
   args.buildQuality = RTC_BUILD_QUALITY_MEDIUM;  // binned SAH; HIGH needs spatial-split callbacks
-  args.maxBranchingFactor = 2;
-  args.maxDepth = AW_BVH_STACK_SIZE - 8;  // leave room for oversized-leaf subtrees
+  args.maxBranchingFactor = AW_BVH_WIDTH;
+  args.maxDepth = AW_BVH_MAX_DEPTH - 8;  // leave room for oversized-leaf subtrees
   args.sahBlockSize = 1;
   args.minLeafSize = 1;
   args.maxLeafSize = 4;
@@ -214,20 +222,13 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
   out.leaf_tris.reserve(n);
   Flattener f{soup, out};
   if (root->leaf) {
-    // A one-leaf tree still needs an inner root; both children are that leaf (see bvh.h).
+    // A one-leaf tree still needs an inner root: the leaf (or the subtree an oversized leaf
+    // became) in slot 0, the other slots empty (see bvh.h).
     out.nodes.emplace_back();
     int leaf = f.child_ref(root->prims, root->count, 1);
-    BvhNode& node = out.nodes[0];
-    std::memset(&node, 0, sizeof(node));
-    RTCBounds b = f.tri_bounds(root->prims, root->count);
-    Flattener::put_bounds(node, 0, b);
-    Flattener::put_bounds(node, 1, b);
-    node.child[0] = leaf;
-    node.child[1] = leaf;
-    if (out.nodes.size() > 1) {
-      // the leaf was oversized and became a subtree: point both children at that subtree
-      node.child[0] = node.child[1] = 1;
-    }
+    BvhNode node = Flattener::empty_node();
+    Flattener::put_child(node, 0, f.tri_bounds(root->prims, root->count), leaf);
+    out.nodes[0] = node;
   } else {
     f.emit(root, 0);
   }

@@ -1,4 +1,4 @@
-// Stack-based traversal of the flattened BVH2 (kernels/types/bvh.h, docs/bvh-layout.md).
+// Stack-based traversal of the flattened BVH4 (kernels/types/bvh.h, docs/bvh-layout.md).
 // Compiles as OpenCL C (the intersect kernels) and as C++ (tests compare it to Embree).
 #ifndef AW_BVH_TRAVERSE_H
 #define AW_BVH_TRAVERSE_H
@@ -37,7 +37,28 @@ AW_FN float safe_rcp(float x) {
   return fabs(x) < 1e-30f ? copysign(big, x) : 1.0f / x;
 }
 
+// The four slab tests of a BVH4 node at once (one float4 operation per slab and bound, the
+// structure-of-arrays rows of kernels/types/bvh.h). Same arithmetic per lane as box_hit above,
+// so a box is accepted exactly when box_hit would accept it; *t_near gets each lane's entry
+// distance. Lanes of empty slots are tested too (their boxes are zeros) and masked by the caller.
+AW_FN float4 min4_nn(float4 a, float4 b) {
+#if AW_DEVICE
+  return select(b, a, a < b);
+#else
+  return glm::min(a, b);
+#endif
+}
+AW_FN float4 max4_nn(float4 a, float4 b) {
+#if AW_DEVICE
+  return select(b, a, a > b);
+#else
+  return glm::max(a, b);
+#endif
+}
+
 // Closest hit (any_hit = 0) or first hit found (any_hit = 1, for shadow rays) in (t_min, t_max).
+// Each node: the four box tests as SIMD slabs, then the children hit are visited nearest
+// first (the others pushed farthest first, so the stack pops them in order of entry distance).
 AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
                                 const AW_GLOBAL float4* tris, float3 org, float3 dir,
                                 float t_min, float t_max, int any_hit) {
@@ -50,34 +71,56 @@ AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
 
   float3 inv = make_float3(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z));
   RayShear shear = ray_shear_make(dir);
+  const float4 ox = make_float4(org.x, org.x, org.x, org.x), oy = make_float4(org.y, org.y, org.y, org.y),
+               oz = make_float4(org.z, org.z, org.z, org.z);
+  const float4 ix = make_float4(inv.x, inv.x, inv.x, inv.x), iy = make_float4(inv.y, inv.y, inv.y, inv.y),
+               iz = make_float4(inv.z, inv.z, inv.z, inv.z);
+  const float4 tmin4 = make_float4(t_min, t_min, t_min, t_min);
 
   int stack[AW_BVH_STACK_SIZE];
   int sp = 0;
   int node = 0;
   for (;;) {
-    // Inner nodes: test both children, descend into the nearer, push the farther.
+    // Inner nodes: test the four children, descend into the nearest hit, push the others.
     while (node >= 0) {
-      float4 a = nodes[node * 4 + 0];
-      float4 b = nodes[node * 4 + 1];
-      float4 c = nodes[node * 4 + 2];
-      float4 d = nodes[node * 4 + 3];
-      float t0, t1;
-      int h0 = box_hit(a.x, a.y, a.z, a.w, c.x, c.y, org, inv, t_min, hit.t, &t0);
-      int h1 = box_hit(b.x, b.y, b.z, b.w, c.z, c.w, org, inv, t_min, hit.t, &t1);
-      int c0 = as_int(d.x), c1 = as_int(d.y);
-      if (h0 && h1) {
-        int near_c = t0 <= t1 ? c0 : c1;
-        int far_c = t0 <= t1 ? c1 : c0;
-        stack[sp++] = far_c;
-        node = near_c;
-      } else if (h0) {
-        node = c0;
-      } else if (h1) {
-        node = c1;
-      } else {
+      const AW_GLOBAL float4* nd = nodes + (uint)node * 8u;
+      float4 tx0 = (nd[0] - ox) * ix, tx1 = (nd[1] - ox) * ix;
+      float4 ty0 = (nd[2] - oy) * iy, ty1 = (nd[3] - oy) * iy;
+      float4 tz0 = (nd[4] - oz) * iz, tz1 = (nd[5] - oz) * iz;
+      float4 tmax4 = make_float4(hit.t, hit.t, hit.t, hit.t);
+      float4 tn = max4_nn(max4_nn(min4_nn(tx0, tx1), min4_nn(ty0, ty1)), max4_nn(min4_nn(tz0, tz1), tmin4));
+      float4 tf = min4_nn(min4_nn(max4_nn(tx0, tx1), max4_nn(ty0, ty1)), min4_nn(max4_nn(tz0, tz1), tmax4));
+      tf = tf * 1.00000036f;
+      float4 ch = nd[6];
+      // The children hit, in slot order, with their entry distances.
+      int hn[4];
+      float ht[4];
+      int k = 0;
+      if (tn.x <= tf.x) { hn[k] = as_int(ch.x); ht[k] = tn.x; ++k; }
+      if (tn.y <= tf.y && as_int(ch.y) != AW_BVH_EMPTY) { hn[k] = as_int(ch.y); ht[k] = tn.y; ++k; }
+      if (tn.z <= tf.z && as_int(ch.z) != AW_BVH_EMPTY) { hn[k] = as_int(ch.z); ht[k] = tn.z; ++k; }
+      if (tn.w <= tf.w && as_int(ch.w) != AW_BVH_EMPTY) { hn[k] = as_int(ch.w); ht[k] = tn.w; ++k; }
+      if (k == 0) {
         if (sp == 0) return hit;
         node = stack[--sp];
+        continue;
       }
+      // Sort by entry distance, farthest first (insertion sort of at most four; ties keep
+      // slot order reversed, so equal distances are visited in slot order).
+      for (int i = 1; i < k; ++i) {
+        int n_i = hn[i];
+        float t_i = ht[i];
+        int j = i - 1;
+        while (j >= 0 && ht[j] <= t_i) {
+          hn[j + 1] = hn[j];
+          ht[j + 1] = ht[j];
+          --j;
+        }
+        hn[j + 1] = n_i;
+        ht[j + 1] = t_i;
+      }
+      for (int i = 0; i < k - 1; ++i) stack[sp++] = hn[i];
+      node = hn[k - 1];
     }
     // Leaf: ~node = (first << 3) | (count - 1).
     {

@@ -3,27 +3,36 @@
 #ifndef AW_TYPES_BVH_H
 #define AW_TYPES_BVH_H
 
-// BVH2 node in the Aila–Laine layout (Aila & Laine 2009, "Understanding the Efficiency of
-// Ray Traversal on GPUs", Sec. 3): a node stores the boxes of BOTH children, so one node
-// fetch (4 × float4 = 64 bytes) tests two boxes and the traversal never loads a box it
-// will not test.
-//   f4[0] = (c0.lo.x, c0.hi.x, c0.lo.y, c0.hi.y)
-//   f4[1] = (c1.lo.x, c1.hi.x, c1.lo.y, c1.hi.y)
-//   f4[2] = (c0.lo.z, c0.hi.z, c1.lo.z, c1.hi.z)
-//   f4[3] = (child0, child1, 0, 0) as int bits
+// BVH4 node: the boxes of up to four children in structure-of-arrays form, so that one float4
+// operation runs a slab of all four box tests, as Embree's BVH4 does with SSE on CPUs (Wald et
+// al. 2008, "Getting Rid of Packets: Efficient SIMD Single-Ray Traversal using Multi-branching
+// BVHs", Sec. 3; Dammertz et al. 2008, "Shallow Bounding Volume Hierarchies for Fast SIMD Ray
+// Tracing of Incoherent Rays"). 8 × float4 = 128 bytes, two cache lines:
+//   f4[0] = lo.x of children 0..3     f4[1] = hi.x of children 0..3
+//   f4[2] = lo.y                      f4[3] = hi.y
+//   f4[4] = lo.z                      f4[5] = hi.z
+//   f4[6] = (child0, child1, child2, child3) as int bits
+//   f4[7] = 0 (padding to the cache line)
 // child >= 0: index of an inner node. child < 0: leaf, ~child = (first << 3) | (count - 1),
 // i.e. `count` (1..8) consecutive entries of the leaf triangle array starting at `first`.
-// A tree that is a single leaf gets a root whose two children are that same leaf (an "empty
-// box" cannot be encoded robustly: the slab test of an inverted box passes for some
-// directions). Testing a handful of triangles twice costs nothing.
+// child == AW_BVH_EMPTY: no child in this slot (its box is all zeros and never tested: the
+// traversal masks the slot by its id, since an "empty box" cannot be encoded robustly, the slab
+// test of an inverted box passing for some directions). Slots are filled from 0; a node has at
+// least one child (a one-leaf tree is a root with that leaf in slot 0).
 typedef struct {
-  float bounds[12];
-  int child[2];
-  int pad[2];
+  float lo_x[4], hi_x[4], lo_y[4], hi_y[4], lo_z[4], hi_z[4];
+  int child[4];
+  int pad[4];
 } BvhNode;
 
+#define AW_BVH_WIDTH 4
+#define AW_BVH_EMPTY 2147483647  // INT_MAX: never a node index (there are fewer nodes than triangles)
+
 #define AW_BVH_LEAF_MAX 8
-#define AW_BVH_STACK_SIZE 64
+// A node pushes at most three children (the nearest is visited next); the tree is at most
+// AW_BVH_MAX_DEPTH deep, so the stack never holds more than 3 per level.
+#define AW_BVH_MAX_DEPTH 40
+#define AW_BVH_STACK_SIZE (3 * AW_BVH_MAX_DEPTH + 4)
 
 // Leaf triangle, in leaf order: the three vertices as float4 (w of v0 holds the original
 // triangle id as uint bits, the id Embree reports as primID, so hits name the same triangle

@@ -46,7 +46,7 @@ def render_traversal(ctx, t):
             f"{tj['device']}, {tj['compute_units']} compute units.\n",
             md_table(["ray kind", "rays", "OpenCL Mrays/s", f"Embree Mrays/s ({tj['compute_units']} threads)",
                       "ratio OpenCL/Embree", "Embree 1-thread Mrays/s", "hit mismatch"], rows),
-            "The kernel is the stack-based Aila–Laine BVH2 traversal with the watertight triangle test "
+            "The kernel is the stack-based BVH4 traversal (four boxes per float4 slab test) with the watertight triangle test "
             f"([bvh-layout.md]({ctx.docs_link('bvh-layout.md')})).\n"]
 
 

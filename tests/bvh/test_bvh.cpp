@@ -879,8 +879,8 @@ void check_structure(const TriangleSoup& soup, const FlatBvh& bvh, const std::st
   };
   auto stored_box = [&](const BvhNode& node, int c) {
     Box b;
-    b.lo = glm::vec3(node.bounds[c * 4 + 0], node.bounds[c * 4 + 2], node.bounds[8 + c * 2 + 0]);
-    b.hi = glm::vec3(node.bounds[c * 4 + 1], node.bounds[c * 4 + 3], node.bounds[8 + c * 2 + 1]);
+    b.lo = glm::vec3(node.lo_x[c], node.lo_y[c], node.lo_z[c]);
+    b.hi = glm::vec3(node.hi_x[c], node.hi_y[c], node.hi_z[c]);
     return b;
   };
   std::vector<int> node_seen(bvh.nodes.size(), 0);
@@ -920,25 +920,29 @@ void check_structure(const TriangleSoup& soup, const FlatBvh& bvh, const std::st
       return content;
     }
     max_depth = std::max(max_depth, depth);
-    if (depth >= AW_BVH_STACK_SIZE) {
+    if (depth >= AW_BVH_MAX_DEPTH) {
       ADD_FAILURE() << "tree deeper than the traversal stack";
       return content;
     }
     const BvhNode& node = bvh.nodes[size_t(ref)];
-    EXPECT_EQ(node.pad[0], 0);
-    EXPECT_EQ(node.pad[1], 0);
-    // A single-leaf tree is the one place both children may be the same reference.
-    const bool single_leaf_root = ref == 0 && node.child[0] == node.child[1];
-    for (int c = 0; c < (single_leaf_root ? 1 : 2); ++c) {
+    for (int p : node.pad) EXPECT_EQ(p, 0);
+    // Slots are filled from 0; at least one child (two, except a one-leaf tree's root); an
+    // empty slot has an all-zero box.
+    int used = 0;
+    for (int c = 0; c < AW_BVH_WIDTH; ++c) {
+      if (node.child[c] == AW_BVH_EMPTY) {
+        Box box = stored_box(node, c);
+        if (box.lo != glm::vec3(0.0f) || box.hi != glm::vec3(0.0f)) ++box_violations;
+        continue;
+      }
+      if (c != used) ADD_FAILURE() << "node " << ref << ": slot " << c << " used after an empty slot";
+      ++used;
       Box child = visit(node.child[c], depth + 1, ref);
       Box box = stored_box(node, c);
-      if (single_leaf_root) {
-        Box other = stored_box(node, 1);
-        if (std::memcmp(&box, &other, sizeof(box)) != 0) ++box_violations;
-      }
       if (glm::any(glm::lessThan(child.lo, box.lo)) || glm::any(glm::greaterThan(child.hi, box.hi))) ++box_violations;
       content.grow(child);
     }
+    if (used < (ref == 0 ? 1 : 2)) ADD_FAILURE() << "node " << ref << " has " << used << " children";
     return content;
   };
   visit(0, 0, -1);
@@ -956,8 +960,8 @@ void check_structure(const TriangleSoup& soup, const FlatBvh& bvh, const std::st
   EXPECT_EQ(slots_twice, 0u) << "leaf_tris entries in two leaves";
   EXPECT_EQ(leaves, bvh.leaf_count);
   EXPECT_EQ(max_depth, bvh.max_depth);
-  // The traversal pushes at most one node per level below the root.
-  EXPECT_LT(bvh.max_depth, AW_BVH_STACK_SIZE);
+  // The traversal pushes at most three nodes per level below the root (AW_BVH_STACK_SIZE).
+  EXPECT_LT(bvh.max_depth, AW_BVH_MAX_DEPTH);
 }
 
 TEST(BvhStructure, InvariantsOnTestScenes) {
@@ -981,10 +985,10 @@ TEST(BvhStructure, InvariantsOnSmallAndDegenerateSoups) {
     FlatBvh bvh = build_flat_bvh(dev, soup);
     check_structure(soup, bvh, std::to_string(count) + " random triangles");
     if (count == 1) {
-      // Single leaf: one root whose two children are that leaf (kernels/types/bvh.h).
+      // Single leaf: one root with that leaf in slot 0 and the others empty (kernels/types/bvh.h).
       ASSERT_EQ(bvh.nodes.size(), 1u);
-      EXPECT_EQ(bvh.nodes[0].child[0], bvh.nodes[0].child[1]);
       EXPECT_EQ(bvh.nodes[0].child[0], ~0);
+      for (int c = 1; c < AW_BVH_WIDTH; ++c) EXPECT_EQ(bvh.nodes[0].child[c], AW_BVH_EMPTY);
     }
   }
   // Identical triangles (no split separates them) and all-degenerate soups.
