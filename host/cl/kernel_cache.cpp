@@ -17,14 +17,10 @@ namespace {
 
 constexpr const char* kMagic = "archwave-kernel-binary 1";
 
-std::string hex16(uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)v);
-  return buf;
-}
+}  // namespace
 
-uint64_t fnv1a64_bytes(const unsigned char* p, size_t n) {
-  uint64_t h = 0xcbf29ce484222325ull;
+uint64_t fnv1a64(const void* data, size_t n, uint64_t h) {
+  const auto* p = static_cast<const unsigned char*>(data);
   for (size_t i = 0; i < n; ++i) {
     h ^= p[i];
     h *= 0x100000001b3ull;
@@ -32,14 +28,10 @@ uint64_t fnv1a64_bytes(const unsigned char* p, size_t n) {
   return h;
 }
 
-}  // namespace
-
-uint64_t fnv1a64(const std::string& s, uint64_t h) {
-  for (unsigned char c : s) {
-    h ^= c;
-    h *= 0x100000001b3ull;
-  }
-  return h;
+std::string hex16(uint64_t v) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", (unsigned long long)v);
+  return buf;
 }
 
 std::string kernel_cache_dir() {
@@ -73,7 +65,7 @@ bool KernelCache::load(std::vector<unsigned char>* binary) const {
   if (!(h >> magic1 >> magic2 >> check >> size >> checksum)) return false;
   if (magic1 + " " + magic2 != kMagic || check != hex16(check_)) return false;
   std::vector<unsigned char> data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (data.size() != size || size == 0 || hex16(fnv1a64_bytes(data.data(), data.size())) != checksum) return false;
+  if (data.size() != size || size == 0 || hex16(fnv1a64(data.data(), data.size())) != checksum) return false;
   *binary = std::move(data);
   return true;
 }
@@ -84,7 +76,7 @@ std::string KernelCache::store(const std::vector<unsigned char>& binary) const {
   std::filesystem::create_directories(dir_, ec);
   if (ec) return "cannot create " + dir_ + ": " + ec.message();
   std::string text = std::string(kMagic) + " " + hex16(check_) + " " + std::to_string(binary.size()) + " " +
-                     hex16(fnv1a64_bytes(binary.data(), binary.size())) + "\n";
+                     hex16(fnv1a64(binary.data(), binary.size())) + "\n";
   text.append(reinterpret_cast<const char*>(binary.data()), binary.size());
   // A name of this process's own, renamed into place: write_text_file's temporary is the
   // target's name plus ".tmp", which two processes storing the same program would share.

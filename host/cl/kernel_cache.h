@@ -27,9 +27,14 @@ namespace aw {
 // The cache directory by the rule above; "" when the cache is off.
 std::string kernel_cache_dir();
 
-// FNV-1a over the bytes of `s` (Fowler, Noll & Vo; 64-bit offset basis and prime), continuing
-// from `h`. Stable across runs and builds, unlike std::hash.
-uint64_t fnv1a64(const std::string& s, uint64_t h = 0xcbf29ce484222325ull);
+// FNV-1a over n bytes (Fowler, Noll & Vo; 64-bit offset basis and prime), continuing from `h`.
+// Stable across runs and builds, unlike std::hash.
+uint64_t fnv1a64(const void* data, size_t n, uint64_t h = 0xcbf29ce484222325ull);
+inline uint64_t fnv1a64(const std::string& s, uint64_t h = 0xcbf29ce484222325ull) {
+  return fnv1a64(s.data(), s.size(), h);
+}
+// v as 16 lower-case hex digits.
+std::string hex16(uint64_t v);
 
 class KernelCache {
  public:

@@ -100,10 +100,7 @@ double measure_device_speed(int index) {
 }
 
 std::string kernel_source_hash(const std::string& kernel_dir) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx",
-                (unsigned long long)fnv1a64(assemble_kernel_source("integrator/kernels.cl", kernel_dir)));
-  return buf;
+  return hex16(fnv1a64(assemble_kernel_source("integrator/kernels.cl", kernel_dir)));
 }
 
 std::string device_speed_key(const DeviceInfo& d) {

@@ -150,13 +150,12 @@ class Wavefront {
         if (off == FeatureSet::name(i)) features_.on[i] = false;
     st_.kernel_features = opts_.generic_kernels ? "generic (every feature)" : "specialised: " + features_.describe();
     // Material features are checked at every hit (classify_hit), lobe splitting where it
-    // starts (shade_surface); light types have no such check in the kernels (a compiled-out
-    // type would be sampled as another one), so the host refuses the build here.
+    // starts (shade_surface); light types and the sampler have no such check in the kernels (a
+    // compiled-out light type would be sampled as another one, a compiled-out sampler falls
+    // through to Sobol'), so the host refuses the build here.
     std::string lack;
-    for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE})
-      if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
-    // Nor can they check the sampler: one the build lacks would fall through to Sobol'.
-    for (int i : {FeatureSet::SAMPLER_INDEPENDENT, FeatureSet::SAMPLER_ZSOBOL})
+    for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE,
+                  FeatureSet::SAMPLER_INDEPENDENT, FeatureSet::SAMPLER_ZSOBOL})
       if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
     if (!lack.empty())
       throw std::logic_error("the scene has lights or a sampler of a kind the specialised kernels lack (" + lack + "; built: " +

@@ -13,23 +13,6 @@ typedef struct {
   int prim;  // original triangle id, -1 = no hit
 } TriangleHit;
 
-// Slab test against one box with a conservative far distance: Ize 2013, "Robust BVH Ray
-// Traversal", JCGT 2(2), Sec. 3: computed as (bound - org) * inv, whose error is relative to
-// t, and t_far scaled by 1 + 2 gamma(3), keeps the box test from rejecting a box that the
-// watertight triangle test would hit. (The cheaper bound * inv - org * inv form errs relative
-// to |org * inv| and left cracks at shared vertices: tests/bvh, heightfield.)
-AW_FN int box_hit(float lox, float hix, float loy, float hiy, float loz, float hiz,
-                  float3 org, float3 inv, float t_min, float t_max, float* t_near) {
-  float tx0 = (lox - org.x) * inv.x, tx1 = (hix - org.x) * inv.x;
-  float ty0 = (loy - org.y) * inv.y, ty1 = (hiy - org.y) * inv.y;
-  float tz0 = (loz - org.z) * inv.z, tz1 = (hiz - org.z) * inv.z;
-  // No NaN can arise here (finite reciprocals, finite bounds), so plain min/max suffice.
-  float tn = max_nn(max_nn(min_nn(tx0, tx1), min_nn(ty0, ty1)), max_nn(min_nn(tz0, tz1), t_min));
-  float tf = min_nn(min_nn(max_nn(tx0, tx1), max_nn(ty0, ty1)), min_nn(max_nn(tz0, tz1), t_max));
-  *t_near = tn;
-  return tn <= tf * 1.00000036f;
-}
-
 // Reciprocal direction with zero components replaced by a huge finite value of the same
 // sign, so 0 * inf never produces NaN in the slab test.
 AW_FN float safe_rcp(float x) {
@@ -37,10 +20,8 @@ AW_FN float safe_rcp(float x) {
   return fabs(x) < 1e-30f ? copysign(big, x) : 1.0f / x;
 }
 
-// The four slab tests of a BVH4 node at once (one float4 operation per slab and bound, the
-// structure-of-arrays rows of kernels/types/bvh.h). Same arithmetic per lane as box_hit above,
-// so a box is accepted exactly when box_hit would accept it; *t_near gets each lane's entry
-// distance. Lanes of empty slots are tested too (their boxes are zeros) and masked by the caller.
+// Component-wise min/max without IEEE NaN handling, for the slab tests below (no NaN can arise
+// there: finite reciprocals, finite bounds), as min_nn/max_nn (common/compat.h) for floats.
 AW_FN float4 min4_nn(float4 a, float4 b) {
 #if AW_DEVICE
   return select(b, a, a < b);
@@ -59,6 +40,12 @@ AW_FN float4 max4_nn(float4 a, float4 b) {
 // Closest hit (any_hit = 0) or first hit found (any_hit = 1, for shadow rays) in (t_min, t_max).
 // Each node: the four box tests as SIMD slabs, then the children hit are visited nearest
 // first (the others pushed farthest first, so the stack pops them in order of entry distance).
+// The slab test keeps a conservative far distance: Ize 2013, "Robust BVH Ray Traversal",
+// JCGT 2(2), Sec. 3: computed as (bound - org) * inv, whose error is relative to t, and t_far
+// scaled by 1 + 2 gamma(3), it never rejects a box that the watertight triangle test would
+// hit. (The cheaper bound * inv - org * inv form errs relative to |org * inv| and left cracks
+// at shared vertices: tests/bvh, heightfield.) Lanes of empty slots are tested too (their
+// boxes are zeros) and masked by their child id.
 AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
                                 const AW_GLOBAL float4* tris, float3 org, float3 dir,
                                 float t_min, float t_max, int any_hit) {
