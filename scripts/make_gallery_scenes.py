@@ -125,7 +125,200 @@ for skip in (True, False):
         [sphere("s")])
 
 
+# --- Daylight: sun, sky and photographic exposure (issue 13) ---------------------------------
+# Physically scaled units: the sun's intensity is its illuminance in lux on a surface facing it
+# (a clear day: ~100000), the Preetham sky's radiance is in cd/m^2, and the camera exposes with
+# the sunny-16 rule (ISO 100, 1/100 s, f/16: k = 1/25600, docs/scene-format.md).
+SUNNY16 = {"mode": "photographic", "iso": 100, "shutter": 100, "f_number": 16}
+SUN = {"type": "sun", "direction": [-0.45, -0.75, -0.5], "angle": 0.53, "intensity": 100000}
+SKY = {"type": "sky", "turbidity": 3, "ground_albedo": 0.2}
+MESHES = os.path.join(HERE, "..", "scenes", "meshes")
+
+
+def write_lathe_obj(path, profile, segments=96, normals=None):
+    """A surface of revolution about +Y from a (radius, height) profile, with smooth normals:
+    each vertex's normal is the mean of its two profile segments' normals (or `normals`, one
+    (n_r, n_y) per profile point), turned with it."""
+    import math
+    seg_n = []
+    for (r0, y0), (r1, y1) in zip(profile, profile[1:]):
+        dr, dy = r1 - r0, y1 - y0
+        ln = math.hypot(dr, dy)
+        seg_n.append((dy / ln, -dr / ln))  # outward for a profile walked upwards on the outside
+    vn = list(normals or [])
+    for k in range(len(profile) if not normals else 0):
+        a = seg_n[max(k - 1, 0)]
+        b = seg_n[min(k, len(seg_n) - 1)]
+        nr, ny = a[0] + b[0], a[1] + b[1]
+        ln = math.hypot(nr, ny) or 1.0
+        vn.append((nr / ln, ny / ln))
+    lines = ["# lathed cup, written by scripts/make_gallery_scenes.py"]
+    for i in range(segments):
+        phi = 2 * math.pi * i / segments
+        c, s_ = math.cos(phi), math.sin(phi)
+        for (r, y), (nr, ny) in zip(profile, vn):
+            lines.append("v %.6f %.6f %.6f" % (r * c, y, r * s_))
+            lines.append("vn %.6f %.6f %.6f" % (nr * c, ny, nr * s_))
+    m = len(profile)
+    for i in range(segments):
+        j = (i + 1) % segments
+        for k in range(m - 1):
+            a, b = i * m + k + 1, j * m + k + 1
+            lines.append("f %d//%d %d//%d %d//%d" % (a, a, b, b, b + 1, b + 1))
+            lines.append("f %d//%d %d//%d %d//%d" % (a, a, b + 1, b + 1, a + 1, a + 1))
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+# The cup: outer wall up from the foot, a rounded rim, the inner wall down to a flat inside
+# bottom (walked so that the normals face out of the material everywhere).
+CUP_PROFILE = [(0.0, 0.0), (0.30, 0.0), (0.34, 0.03), (0.36, 0.10), (0.40, 0.40), (0.44, 0.72), (0.45, 0.75),
+               (0.44, 0.77), (0.42, 0.76), (0.41, 0.72), (0.37, 0.42), (0.33, 0.12), (0.25, 0.06), (0.0, 0.06)]
+
+
+def daylight(materials, objects, camera, width=400, height=300, spp=128, extra_lights=(), env=SKY, sun=SUN):
+    return {
+        "render": {"width": width, "height": height, "spp": spp, "seed": 0, "max_depth": 8},
+        "camera": dict(camera, exposure=SUNNY16),
+        "environment": env,
+        "lights": [sun] + list(extra_lights),
+        "materials": materials,
+        "objects": objects,
+    }
+
+
+# The documentation's Fresnel example: a floor and a cup of the DEFAULT material (grey diffuse,
+# reflection 0.6 with Fresnel from IOR 1.5) under sun and sky. Seen at a shallow angle the floor
+# mirrors the sky; seen from above it is mostly its diffuse grey.
+CUP_OBJECTS = [
+    {"shape": "quad", "corner": [-40, 0, 40], "edge_u": [80, 0, 0], "edge_v": [0, 0, -80], "material": "default"},
+    {"shape": "mesh", "file": "../meshes/cup.obj", "material": "default", "transform": {"scale": 1.5}},
+]
+EXAMPLES["sky_fresnel_shallow"] = daylight(
+    {"default": {}}, CUP_OBJECTS, {"position": [0, 0.45, 6], "look_at": [0, 0.5, 0], "up": [0, 1, 0], "fov": 30})
+EXAMPLES["sky_fresnel_steep"] = daylight(
+    {"default": {}}, CUP_OBJECTS, {"position": [0, 5.5, 2.2], "look_at": [0, 0.3, 0], "up": [0, 1, 0], "fov": 30})
+
+
+# The documentation's AO sequence: rings lying on a floor under sun and sky, photographic
+# exposure. No GI; AO added as ambient light (ambient 0.2, 256 samples); GI; GI with AO
+# multiplied in (shadow 0.2). The rings: tori, lathed from a circle with exact normals.
+def ring_profile(R, a, n=48):
+    import math
+    pts = [(R + a * math.cos(2 * math.pi * k / n), a + a * math.sin(2 * math.pi * k / n)) for k in range(n + 1)]
+    nrm = [(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n + 1)]
+    return pts, nrm
+
+
+RING_OBJECTS = [
+    {"shape": "quad", "corner": [-40, 0, 40], "edge_u": [80, 0, 0], "edge_v": [0, 0, -80], "material": "ao_floor"},
+    {"shape": "mesh", "file": "../meshes/ring.obj", "material": "ao_ring", "transform": {"translate": [-1.1, 0, 0.3]}},
+    {"shape": "mesh", "file": "../meshes/ring.obj", "material": "ao_ring",
+     "transform": {"translate": [0.9, 0, -0.4], "scale": 0.7}},
+    {"shape": "mesh", "file": "../meshes/ring.obj", "material": "ao_ring",
+     "transform": {"translate": [0.4, 0, 1.2], "scale": 0.45}},
+]
+
+
+def ao_materials(ao):
+    base = {"diffuse": {"color": [0.4, 0.4, 0.4]}, "reflection": {"weight": 0}}
+    floor, ring = dict(base), dict(base, diffuse={"color": [0.55, 0.42, 0.3]})
+    if ao:
+        floor["ao"] = ao
+        ring["ao"] = ao
+    return {"ao_floor": floor, "ao_ring": ring}
+
+
+AO_CAMERA = {"position": [0, 3.2, 5.2], "look_at": [0, 0.2, 0.2], "up": [0, 1, 0], "fov": 35}
+AO_SUN = {"type": "sun", "direction": [0.35, -0.8, -0.5], "angle": 0.53, "intensity": 100000}
+for name, gi, ao in [
+        ("ao_1_no_gi", False, None),
+        ("ao_2_add", False, {"enable": True, "combine": "add", "ambient_color": [0.2, 0.2, 0.2], "samples": 256,
+                             "max_distance": 2, "exposure_compensation": True}),
+        ("ao_3_gi", True, None),
+        ("ao_4_gi_multiply", True, {"enable": True, "combine": "multiply", "shadow_color": [0.2, 0.2, 0.2],
+                                    "samples": 256, "max_distance": 2})]:
+    sc = daylight(ao_materials(ao), RING_OBJECTS, AO_CAMERA, sun=AO_SUN)
+    sc["render"]["gi"] = gi
+    EXAMPLES[name] = sc
+
+
+# Many lights: a hall with a 20 x 15 grid of small sphere lights under its ceiling (300 lights:
+# the light tree chooses among them) and a ring fixture modelled as incandescent geometry that
+# opts in to light sampling (its 9216 triangles are lights too).
+def many_lights_scene():
+    lights = []
+    for i in range(20):
+        for j in range(15):
+            x, z = -9.5 + i, -12 + j
+            warm = (i + j) % 3 == 0
+            lights.append({"type": "sphere", "center": [x, 3.4, z], "radius": 0.06,
+                           "color": [1, 0.8, 0.55] if warm else [0.85, 0.9, 1], "intensity": 12})
+    objects = [
+        {"shape": "quad", "corner": [-10, 0, 3], "edge_u": [20, 0, 0], "edge_v": [0, 0, -16], "material": "hall_floor"},
+        {"shape": "quad", "corner": [-10, 4, -13], "edge_u": [20, 0, 0], "edge_v": [0, 0, 16], "material": "hall_wall"},
+        {"shape": "quad", "corner": [-10, 0, -13], "edge_u": [20, 0, 0], "edge_v": [0, 4, 0], "material": "hall_wall"},
+        {"shape": "mesh", "file": "../meshes/ring.obj", "material": "fixture", "light_sampling": True,
+         "transform": {"translate": [0, 1.6, -5], "rotate": [90, 0, 0], "scale": 1.2}},
+        {"shape": "sphere", "center": [-2.5, 0.7, -3], "radius": 0.7, "material": "hall_ball"},
+        {"shape": "sphere", "center": [2.6, 0.5, -2], "radius": 0.5, "material": "hall_metal"},
+    ]
+    materials = {
+        "hall_floor": {"diffuse": {"color": [0.3, 0.3, 0.32]}, "reflection": {"weight": 0.5, "glossiness": 0.8}},
+        "hall_wall": {"diffuse": {"color": [0.6, 0.58, 0.55]}, "reflection": {"weight": 0}},
+        "fixture": {"diffuse": {"weight": 0}, "reflection": {"weight": 0},
+                    "incandescent": {"color": [1, 0.55, 0.25], "scale": 3}},
+        "hall_ball": {"diffuse": {"color": [0.7, 0.2, 0.15]}},
+        "hall_metal": {"diffuse": {"color": [0.9, 0.8, 0.6]}, "metal": True,
+                       "reflection": {"weight": 1, "glossiness": 0.85}},
+    }
+    return {
+        "render": {"width": 400, "height": 300, "spp": 128, "seed": 0, "max_depth": 8},
+        "camera": {"position": [0, 1.7, 2.5], "look_at": [0, 1.4, -5], "up": [0, 1, 0], "fov": 60},
+        "environment": {"type": "constant", "color": [0, 0, 0]},
+        "lights": lights,
+        "materials": materials,
+        "objects": objects,
+    }
+
+
+EXAMPLES["many_lights"] = many_lights_scene()
+
+
+def room_with_window(w=6.0, h=3.0, d=5.0, win=(-0.9, 0.9, 0.9, 2.2)):
+    """A closed box room (inside faces), one window hole in the +X wall: win = (z0, y0, z1, y1)."""
+    z0, y0, z1, y1 = win
+    hz = d / 2
+    q = lambda corner, eu, ev, mat: {"shape": "quad", "corner": corner, "edge_u": eu, "edge_v": ev, "material": mat}
+    x = w / 2
+    objs = [
+        q([-x, 0, hz], [w, 0, 0], [0, 0, -d], "floor"),          # floor, facing up
+        q([-x, h, -hz], [w, 0, 0], [0, 0, d], "wall"),           # ceiling, facing down
+        q([-x, 0, -hz], [w, 0, 0], [0, h, 0], "wall"),           # back wall (-Z), facing +Z
+        q([x, 0, hz], [-w, 0, 0], [0, h, 0], "wall"),            # front wall (+Z), facing -Z
+        q([-x, 0, hz], [0, 0, -d], [0, h, 0], "wall"),           # -X wall, facing +X
+        # +X wall around the window, facing -X: below, above, and the two sides.
+        q([x, 0, -hz], [0, 0, d], [0, y0, 0], "wall"),
+        q([x, y1, -hz], [0, 0, d], [0, h - y1, 0], "wall"),
+        q([x, y0, -hz], [0, 0, z0 + hz], [0, y1 - y0, 0], "wall"),
+        q([x, y0, z1], [0, 0, hz - z1], [0, y1 - y0, 0], "wall"),
+    ]
+    return objs
+
+
+EXAMPLES["sun_window_interior"] = daylight(
+    {"floor": {"diffuse": {"color": [0.45, 0.32, 0.2]}, "reflection": {"weight": 0.3, "glossiness": 0.7}},
+     "wall": {"diffuse": {"color": [0.8, 0.8, 0.78]}, "reflection": {"weight": 0}}},
+    room_with_window() + [{"shape": "sphere", "center": [0.2, 0.5, 0.3], "radius": 0.5, "material": "floor"}],
+    {"position": [-2.6, 1.5, 2.2], "look_at": [1.5, 0.8, -0.6], "up": [0, 1, 0], "fov": 60},
+    sun={"type": "sun", "direction": [-0.7, -0.45, 0.25], "angle": 0.53, "intensity": 100000}, spp=256)
+
+
 def main():
+    os.makedirs(MESHES, exist_ok=True)
+    write_lathe_obj(os.path.join(MESHES, "cup.obj"), CUP_PROFILE)
+    ring, ring_n = ring_profile(0.6, 0.12)
+    write_lathe_obj(os.path.join(MESHES, "ring.obj"), ring, segments=96, normals=ring_n)
     os.makedirs(OUT, exist_ok=True)
     for name, s in sorted(EXAMPLES.items()):
         with open(os.path.join(OUT, name + ".json"), "w") as f:

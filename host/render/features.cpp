@@ -62,7 +62,11 @@ FeatureSet decide_features(const PackedScene& scene, const RenderSettings& setti
     if (l.type == AW_LIGHT_QUAD) f.on[FeatureSet::LIGHT_QUAD] = true;
     if (l.type == AW_LIGHT_DISK) f.on[FeatureSet::LIGHT_DISK] = true;
     if (l.type == AW_LIGHT_SPHERE) f.on[FeatureSet::LIGHT_SPHERE] = true;
+    if (l.type == AW_LIGHT_SUN) f.on[FeatureSet::LIGHT_SUN] = true;
+    if (l.type == AW_LIGHT_ENV) f.on[FeatureSet::ENV_MAP] = true;
+    if (l.type == AW_LIGHT_TRIANGLE) f.on[FeatureSet::LIGHT_MESH] = true;
   }
+  if (!scene.light_tree.empty()) f.on[FeatureSet::LIGHT_TREE] = true;
   // The sampler (Sobol' is in every build).
   if (settings.sampler == RenderSettings::Sampler::Independent) f.on[FeatureSet::SAMPLER_INDEPENDENT] = true;
   if (settings.sampler == RenderSettings::Sampler::ZSobol) f.on[FeatureSet::SAMPLER_ZSOBOL] = true;

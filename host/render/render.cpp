@@ -19,12 +19,13 @@ Image RenderResult::image(const Scene& scene) const {
   img.width = width;
   img.height = height;
   img.rgb.resize(sum.size());
-  // Exposure is applied here so the EXR holds radiance x k (docs/scene-format.md, camera.exposure).
-  const float k = exposure_scale(scene.camera.exposure);
   for (size_t p = 0; p < count.size(); ++p) {
     float inv = count[p] ? 1.0f / float(count[p]) : 0.0f;
-    for (int c = 0; c < 3; ++c) img.rgb[p * 3 + c] = sum[p * 3 + c] * inv * k;
+    for (int c = 0; c < 3; ++c) img.rgb[p * 3 + c] = sum[p * 3 + c] * inv;
   }
+  // Exposure is applied here so the EXR holds exposed radiance (docs/scene-format.md,
+  // camera.exposure): x k, and in photographic mode white balance and vignetting.
+  apply_exposure(scene.camera, width, height, img.rgb.data());
   img.int_attrs["spp"] = int(min_spp());
   img.int_attrs["spp_requested"] = scene.render.spp;
   img.int_attrs["seed"] = int(scene.render.seed);

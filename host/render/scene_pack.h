@@ -19,7 +19,13 @@ struct PackedScene {
   std::vector<TriangleInfo> tri_info;
   std::vector<VertexData> verts;
   std::vector<MaterialGpu> materials;
-  std::vector<LightGpu> lights;
+  std::vector<LightGpu> lights;      // lights at infinity first (num_infinite of them)
+  uint32_t num_infinite = 0;
+  std::vector<float> env;            // the environment map's buffer (kernels/lights/environment.h), or empty
+  std::vector<LightTreeNode> light_tree;  // many lights (kernels/lights/light_tree.h), or empty
+  float tree_prob = 0.0f;                 // with a tree: the probability of choosing among its lights
+  std::vector<uint32_t> tri_light;        // per triangle its mesh light or AW_NONE; empty without mesh lights
+  int env_width = 0, env_height = 0;
   RenderParams params{};  // camera, environment, settings; pool and batch fields left 0
   FeatureSet features;    // what the scene uses (decide_features), decided once here
 };
@@ -33,7 +39,8 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings);
 // lights): the scene's share of the memory in the stats.
 inline size_t packed_arrays_bytes(const PackedScene& p) {
   return p.tri_info.size() * sizeof(TriangleInfo) + p.verts.size() * sizeof(VertexData) +
-         p.materials.size() * sizeof(MaterialGpu) + p.lights.size() * sizeof(LightGpu);
+         p.materials.size() * sizeof(MaterialGpu) + p.lights.size() * sizeof(LightGpu) + p.env.size() * sizeof(float) +
+         p.light_tree.size() * sizeof(LightTreeNode) + p.tri_light.size() * sizeof(uint32_t);
 }
 
 }  // namespace aw

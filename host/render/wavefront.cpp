@@ -155,6 +155,7 @@ class Wavefront {
     // through to Sobol'), so the host refuses the build here.
     std::string lack;
     for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE,
+                  FeatureSet::LIGHT_SUN, FeatureSet::ENV_MAP, FeatureSet::LIGHT_MESH, FeatureSet::LIGHT_TREE,
                   FeatureSet::SAMPLER_INDEPENDENT, FeatureSet::SAMPLER_ZSOBOL})
       if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
     if (!lack.empty())
@@ -206,6 +207,11 @@ class Wavefront {
     b.verts = upload(rt_, "vertices", packed_.verts);
     b.materials = upload(rt_, "materials", packed_.materials);
     b.lights = upload(rt_, "lights", packed_.lights);
+    // The environment map's texels and distributions (lights/environment.h); one float without.
+    b.env = packed_.env.empty() ? rt_.buffer("environment map", 4) : upload(rt_, "environment map", packed_.env);
+    b.light_tree = packed_.light_tree.empty() ? rt_.buffer("light tree", sizeof(LightTreeNode))
+                                              : upload(rt_, "light tree", packed_.light_tree);
+    b.tri_light = packed_.tri_light.empty() ? rt_.buffer("triangle lights", 4) : upload(rt_, "triangle lights", packed_.tri_light);
     st_.triangles = packed_.soup.indices.size();
     st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
                       packed_arrays_bytes(packed_);
@@ -234,6 +240,7 @@ class Wavefront {
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
     classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
     pass_ = add("pass_through", AW_Q_PASS, false, true, true);
+    ao_ = add("ambient_occlusion", AW_Q_AO, true, true, features_.on[FeatureSet::AO]);
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
       shade_[l] = add(kLobeStageNames[l], AW_Q_LOBE + int(l), true, true, features_.lobe(l));
     shadow_ = add("intersect_shadow", AW_Q_SHADOW, true, false, true);
@@ -345,6 +352,8 @@ class Wavefront {
     cnt_[AW_Q_RAY] = 0;  // consumed; shading and pass-through refill it
     launch(stages_[pass_], cnt_[AW_Q_PASS]);
     cnt_[AW_Q_PASS] = 0;
+    launch(stages_[ao_], cnt_[AW_Q_AO]);  // hands its paths to the lobe queues below
+    cnt_[AW_Q_AO] = 0;
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
       launch(stages_[shade_[l]], cnt_[AW_Q_LOBE + l]);
       cnt_[AW_Q_LOBE + l] = 0;
@@ -395,7 +404,7 @@ class Wavefront {
   StageBuffers buf_;
   std::vector<uint32_t> identity_;
   std::vector<Stage> stages_;
-  size_t regen_ = 0, isect_ = 0, classify_ = 0, pass_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
+  size_t regen_ = 0, isect_ = 0, classify_ = 0, pass_ = 0, ao_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
   size_t shade_[AW_LID_COUNT] = {};
   uint32_t cnt_[AW_Q_COUNT] = {};  // the host's copy of the queue counters
 };

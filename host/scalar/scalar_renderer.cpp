@@ -54,6 +54,9 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   sc.verts = packed.verts.data();
   sc.materials = packed.materials.data();
   sc.lights = packed.lights.data();
+  sc.env = packed.env.data();
+  sc.light_tree = packed.light_tree.data();
+  sc.tri_light = packed.tri_light.data();
   sc.caster = &caster;
   // Shadow rays step through cutout surfaces only when the scene has any (intersect_shadow.h).
   sc.cutouts = packed.features.on[FeatureSet::CUTOUT] ? 1 : 0;

@@ -1,6 +1,7 @@
 // load_scene: JSON text -> validated, defaulted, triangulated Scene (docs/scene-format.md).
 #include "host/scene/scene.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <map>
 #include <sstream>
 
+#include "host/film/image_io.h"
 #include "host/scene/loader_parts.h"
 
 namespace aw {
@@ -42,7 +44,8 @@ glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
 void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
   expect_object(ctx, n,
                 {"width", "height", "spp", "seed", "max_depth", "reflection_depth",
-                 "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp", "rr_depth", "sampler"});
+                 "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp", "rr_depth", "sampler",
+                 "light_selection"});
   // 65536 per side is far beyond any film we write and keeps width * height in range.
   if_present(n, "width", [&](const Node& c) { r->width = read_int_in(ctx, c, 1, 65536); });
   if_present(n, "height", [&](const Node& c) { r->height = read_int_in(ctx, c, 1, 65536); });
@@ -69,6 +72,12 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
     r->clamp = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
   });
   if_present(n, "rr_depth", [&](const Node& c) { r->rr_depth = read_int_in(ctx, c, 0, kMaxInt); });
+  if_present(n, "light_selection", [&](const Node& c) {
+    r->light_selection = read_enum<RenderSettings::LightSelection>(
+        ctx, c, {{"auto", RenderSettings::LightSelection::Auto},
+                  {"power", RenderSettings::LightSelection::Power},
+                  {"tree", RenderSettings::LightSelection::Tree}});
+  });
   if_present(n, "sampler", [&](const Node& c) {
     r->sampler = read_enum<RenderSettings::Sampler>(
         ctx, c, {{"sobol", RenderSettings::Sampler::Sobol},
@@ -141,24 +150,93 @@ void parse_camera(const LoadContext& ctx, const Node& n, CameraDesc* cam) {
 
 // ---- environment -----------------------------------------------------------------------------
 
-void parse_environment(const LoadContext& ctx, const Node& n, EnvironmentDesc* env) {
-  expect_object_any_keys(ctx, n);
-  // The type decides which keys are valid, so read it before checking the key set: a "map"
-  // environment must say "not supported yet", not "unknown key file".
-  if_present(n, "type", [&](const Node& c) {
-    const std::string type = read_string(ctx, c);
-    if (type == "map" || type == "sky") {
-      ctx.fail(c.path, "environment type \"" + type +
-                           "\" is not supported yet (only \"constant\" for now)");
+std::string resolve_relative(const std::string& scene_path, const std::string& file) {
+  namespace fs = std::filesystem;
+  const fs::path p(file);
+  if (p.is_absolute()) return p.lexically_normal().string();
+  return (fs::path(scene_path).parent_path() / p).lexically_normal().string();
+}
+
+// Reads the lat-long EXR of an environment map into env->map_rgb. Non-finite texels are an
+// error naming the texel (they would make the map's distribution, and every pixel that sees
+// it, NaN); negative ones (which some HDR tools and lossy EXR compressions write around black)
+// are set to 0 with a warning, since light cannot be negative.
+void load_environment_map(LoadContext& ctx, const Node& file_node, EnvironmentDesc* env) {
+  Image img;
+  try {
+    img = read_exr(env->file);
+  } catch (const OutputError& e) {
+    ctx.fail(file_node.path, std::string("cannot read the environment map: ") + e.what());
+  }
+  if (img.width <= 0 || img.height <= 0) ctx.fail(file_node.path, "environment map \"" + env->file + "\" is empty");
+  size_t negative = 0;
+  for (size_t i = 0; i < img.rgb.size(); ++i) {
+    float& v = img.rgb[i];
+    if (!std::isfinite(v)) {
+      const size_t px = i / 3;
+      ctx.fail(file_node.path, "environment map \"" + env->file + "\": pixel (" + std::to_string(px % size_t(img.width)) +
+                                   ", " + std::to_string(px / size_t(img.width)) + ") is not finite");
     }
-    env->type =
-        read_enum<EnvironmentDesc::Type>(ctx, c, {{"constant", EnvironmentDesc::Type::Constant}});
+    if (v < 0.0f) {
+      v = 0.0f;
+      ++negative;
+    }
+  }
+  if (negative > 0)
+    ctx.warn(file_node.path, "environment map \"" + env->file + "\": " + std::to_string(negative) +
+                                 " negative channel values set to 0");
+  env->map_width = img.width;
+  env->map_height = img.height;
+  env->map_rgb = std::move(img.rgb);
+}
+
+void parse_environment(LoadContext& ctx, const Node& n, EnvironmentDesc* env) {
+  expect_object_any_keys(ctx, n);
+  // The type decides which keys are valid, so read it before checking the key set.
+  if_present(n, "type", [&](const Node& c) {
+    env->type = read_enum<EnvironmentDesc::Type>(ctx, c,
+                                                 {{"constant", EnvironmentDesc::Type::Constant},
+                                                  {"map", EnvironmentDesc::Type::Map},
+                                                  {"sky", EnvironmentDesc::Type::Sky}});
   });
-  expect_object(ctx, n, {"type", "color", "intensity"});
+  switch (env->type) {
+    case EnvironmentDesc::Type::Constant:
+      expect_object(ctx, n, {"type", "color", "intensity"});
+      break;
+    case EnvironmentDesc::Type::Map:
+      expect_object(ctx, n, {"type", "file", "intensity", "rotation", "sampling"});
+      break;
+    case EnvironmentDesc::Type::Sky:
+      expect_object(ctx, n, {"type", "turbidity", "ground_albedo", "intensity", "resolution", "sampling"});
+      break;
+  }
   if_present(n, "color", [&](const Node& c) { env->color = read_colour_nonnegative(ctx, c); });
   if_present(n, "intensity", [&](const Node& c) {
     env->intensity = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
   });
+  if_present(n, "rotation", [&](const Node& c) { env->rotation = static_cast<float>(read_number(ctx, c)); });
+  // Preetham et al. fitted their model for turbidity 2 to 10 (and show 1.7 as the clearest
+  // sky); outside that the formulas give negative luminances.
+  if_present(n, "turbidity", [&](const Node& c) {
+    env->turbidity = static_cast<float>(read_number_in(ctx, c, Range{1.7, 10}));
+  });
+  if_present(n, "ground_albedo", [&](const Node& c) {
+    const glm::dvec3 a = read_colour(ctx, c);
+    if (!(a.x >= 0 && a.y >= 0 && a.z >= 0 && a.x <= 1 && a.y <= 1 && a.z <= 1))
+      ctx.fail(c.path, "ground albedo components must be in [0, 1], got " + describe(*c.j));
+    env->ground_albedo = to_f(a);
+  });
+  if_present(n, "resolution", [&](const Node& c) { env->resolution = read_int_in(ctx, c, 16, 16384); });
+  if_present(n, "sampling", [&](const Node& c) {
+    env->uniform_sampling = read_enum<bool>(ctx, c, {{"importance", false}, {"uniform", true}});
+  });
+  if (env->type == EnvironmentDesc::Type::Map) {
+    const Node file_node = require(ctx, n, "file");
+    const std::string file = read_string(ctx, file_node);
+    if (file.empty()) ctx.fail(file_node.path, "must not be empty");
+    env->file = resolve_relative(ctx.file(), file);
+    load_environment_map(ctx, file_node, env);
+  }
 }
 
 // ---- lights ----------------------------------------------------------------------------------
@@ -172,15 +250,12 @@ bool parse_light(LoadContext& ctx, const Node& n, LightDesc* l) {
   expect_object_any_keys(ctx, n);
   const Node type_node = require(ctx, n, "type");
   const std::string type = read_string(ctx, type_node);
-  if (type == "sun") {
-    ctx.fail(type_node.path,
-             "sun lights are not supported yet (they come with the sky environment)");
-  }
   l->type = read_enum<LightDesc::Type>(ctx, type_node,
                                        {{"point", LightDesc::Type::Point},
                                         {"quad", LightDesc::Type::Quad},
                                         {"disk", LightDesc::Type::Disk},
-                                        {"sphere", LightDesc::Type::Sphere}});
+                                        {"sphere", LightDesc::Type::Sphere},
+                                        {"sun", LightDesc::Type::Sun}});
   switch (l->type) {
     case LightDesc::Type::Point:
       expect_object(ctx, n, {"type", "position", "color", "intensity"});
@@ -198,7 +273,17 @@ bool parse_light(LoadContext& ctx, const Node& n, LightDesc* l) {
     case LightDesc::Type::Sphere:
       expect_object(ctx, n, {"type", "center", "radius", "color", "intensity", "visible"});
       break;
+    case LightDesc::Type::Sun:
+      expect_object(ctx, n, {"type", "direction", "angle", "color", "intensity", "visible"});
+      break;
   }
+  if_present(n, "direction", [&](const Node& c) {
+    const glm::dvec3 v = read_vec3(ctx, c);
+    if (!(glm::length(v) > 0)) ctx.fail(c.path, "must not be the zero vector");
+    l->direction = to_f(glm::normalize(v));
+  });
+  // The angular diameter: 0 is a hard (delta) sun, 180 a whole hemisphere of sky.
+  if_present(n, "angle", [&](const Node& c) { l->angle = static_cast<float>(read_number_in(ctx, c, Range{0, 180})); });
   if_present(n, "color", [&](const Node& c) { l->color = read_colour_nonnegative(ctx, c); });
   if_present(n, "intensity", [&](const Node& c) {
     l->intensity = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
@@ -298,13 +383,6 @@ glm::dmat4 parse_transform(const LoadContext& ctx, const Node& n) {
   return m;
 }
 
-std::string resolve_relative(const std::string& scene_path, const std::string& file) {
-  namespace fs = std::filesystem;
-  const fs::path p(file);
-  if (p.is_absolute()) return p.lexically_normal().string();
-  return (fs::path(scene_path).parent_path() / p).lexically_normal().string();
-}
-
 TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
                           const std::map<std::string, uint32_t>& material_index,
                           const std::vector<std::string>& material_names) {
@@ -317,7 +395,7 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
                                         {"quad", Shape::Quad},
                                         {"disk", Shape::Disk},
                                         {"box", Shape::Box}});
-  const std::vector<std::string> common = {"shape", "material", "transform"};
+  const std::vector<std::string> common = {"shape", "material", "transform", "light_sampling"};
   auto keys = [&](std::initializer_list<const char*> extra) {
     std::vector<std::string> all = common;
     for (const char* k : extra) all.push_back(k);
@@ -452,6 +530,7 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
   }
   out.material = found->second;
   out.name = name;
+  if_present(n, "light_sampling", [&](const Node& c) { out.light_sampling = read_bool(ctx, c); });
   return out;
 }
 
@@ -503,6 +582,12 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides) {
       if (parse_light(ctx, element(c, i), &l)) scene.lights.push_back(l);
     }
   });
+  if (scene.environment.type == EnvironmentDesc::Type::Sky &&
+      std::none_of(scene.lights.begin(), scene.lights.end(),
+                   [](const LightDesc& l) { return l.type == LightDesc::Type::Sun; })) {
+    ctx.fail("environment.type", "a \"sky\" environment is lit by the first sun light, and the scene has none "
+                                 "(add {\"type\": \"sun\", \"direction\": [...]} to lights)");
+  }
   if_present(root, "textures", [&](const Node& c) {
     expect_object_any_keys(ctx, c);
     if (!c.j->empty()) {
@@ -525,8 +610,15 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides) {
   if_present(root, "objects", [&](const Node& c) {
     expect_array(ctx, c);
     for (size_t i = 0; i < c.j->size(); ++i) {
-      scene.meshes.push_back(
-          parse_object(ctx, element(c, i), i, material_index, scene.material_names));
+      const Node obj = element(c, i);
+      scene.meshes.push_back(parse_object(ctx, obj, i, material_index, scene.material_names));
+      const TriangleMesh& m = scene.meshes.back();
+      const MaterialDesc& md = scene.materials[m.material];
+      const glm::vec3 inc = md.incandescent.color * md.incandescent.scale;
+      if (m.light_sampling && !(inc.x > 0.0f || inc.y > 0.0f || inc.z > 0.0f))
+        ctx.fail(join_key(obj.path, "light_sampling"),
+                 m.name + ": light sampling needs an incandescent material, and \"" + scene.material_names[m.material] +
+                     "\" emits nothing");
     }
   });
 
@@ -546,6 +638,38 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     throw;
   } catch (const std::exception& e) {
     throw SceneError(path + ": internal error while loading the scene: " + e.what());
+  }
+}
+
+void apply_exposure(const CameraDesc& cam, int width, int height, float* rgb) {
+  const ExposureDesc& e = cam.exposure;
+  const double k = exposure_scale(e);
+  glm::dvec3 wb(1.0);
+  double vig = 0.0;
+  if (e.mode == ExposureDesc::Mode::Photographic) {
+    // White balance: the white point's colour becomes grey of the same luminance (a von Kries
+    // scaling in the Rec.709 primaries), so balancing does not change the exposure.
+    const glm::dvec3 wp(e.whitepoint);
+    const double lum = 0.2126 * wp.x + 0.7152 * wp.y + 0.0722 * wp.z;
+    wb = glm::dvec3(lum / wp.x, lum / wp.y, lum / wp.z);
+    vig = e.vignetting;
+  }
+  const double t = std::tan(0.5 * double(cam.fov) * M_PI / 180.0);
+  const double aspect = double(width) / double(height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      double f = k;
+      if (vig > 0.0) {
+        // Natural vignetting: the cos^4 law of a lens's off-axis illuminance (Kerr, "Derivation
+        // of the cosine fourth law for falloff of illuminance across a camera image", 2007),
+        // raised to `vignetting` (0: none, 1: the law itself), at the pixel centre's ray.
+        const double u = (2.0 * (x + 0.5) / width - 1.0) * t * aspect, v = (1.0 - 2.0 * (y + 0.5) / height) * t;
+        const double c2 = 1.0 / (1.0 + u * u + v * v);  // cos^2 of the angle to the axis
+        f *= std::pow(c2 * c2, vig);
+      }
+      float* p = rgb + 3 * (size_t(y) * size_t(width) + size_t(x));
+      for (int c = 0; c < 3; ++c) p[c] = float(double(p[c]) * f * wb[c]);
+    }
   }
 }
 

@@ -41,6 +41,10 @@ struct RenderSettings {
   // (white-noise) hashes, kept for comparison.
   enum class Sampler { Sobol, ZSobol, Independent };
   Sampler sampler = Sampler::Sobol;
+  // How next-event estimation chooses lights (kernels/lights/light_tree.h): by power alone (the
+  // alias table), by the light tree, or auto: the tree from kLightTreeMinLights finite lights on.
+  enum class LightSelection { Auto, Power, Tree };
+  LightSelection light_selection = LightSelection::Auto;
 };
 
 struct ExposureDesc {
@@ -64,14 +68,24 @@ struct CameraDesc {
 };
 
 struct EnvironmentDesc {
-  enum class Type { Constant };  // map and sky come with the lights issue
+  enum class Type { Constant, Map, Sky };
   Type type = Type::Constant;
-  glm::vec3 color{0.0f};
-  float intensity = 1.0f;
+  glm::vec3 color{0.0f};  // constant
+  float intensity = 1.0f;  // every type: multiplies the radiance
+  // map: a lat-long EXR (kernels/lights/environment.h has the mapping), read by the loader.
+  std::string file;        // as resolved against the scene file
+  float rotation = 0.0f;   // degrees about +Y (map)
+  bool uniform_sampling = false;  // environment.sampling "uniform": for comparison with importance sampling
+  int map_width = 0, map_height = 0;
+  std::vector<float> map_rgb;  // linear RGB, row 0 at the top (+Y)
+  // sky: Preetham, Shirley & Smits 1999 (host/scene/sky.h), lit by the first sun light.
+  float turbidity = 3.0f;
+  glm::vec3 ground_albedo{0.2f};
+  int resolution = 1024;  // width of the baked lat-long sky; its height is half of it
 };
 
 struct LightDesc {
-  enum class Type { Point, Quad, Disk, Sphere };
+  enum class Type { Point, Quad, Disk, Sphere, Sun };
   Type type = Type::Point;
   glm::vec3 color{1.0f};
   float intensity = 1.0f;
@@ -86,6 +100,9 @@ struct LightDesc {
   glm::vec3 edge_v{0.0f, 0.0f, 1.0f};
   bool two_sided = false;
   bool visible = true;
+  // sun: direction the light travels (unit), angular diameter in degrees (0: hard shadows).
+  glm::vec3 direction{0.0f, -1.0f, 0.0f};
+  float angle = 0.53f;
 };
 
 // One triangulated object in world space. Built-in shapes are tessellated with smooth normals
@@ -102,6 +119,7 @@ struct TriangleMesh {
   std::vector<glm::uvec3> indices;
   uint32_t material = 0;  // index into Scene::materials
   std::string name;       // "objects[3] (mesh meshes/bunny.obj)" for messages and stats
+  bool light_sampling = false;  // objects[].light_sampling: its triangles are lights (incandescent material)
 };
 
 struct Scene {
@@ -130,5 +148,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 
 // Linear exposure scale: 2^stops, or the photographic constant.
 float exposure_scale(const ExposureDesc& e);
+
+// The whole exposure, in place on an RGB image (3 floats per pixel, top row first) of the
+// camera's render: k = exposure_scale, and in photographic mode the white balance (whitepoint)
+// and the vignetting (docs/scene-format.md, camera.exposure).
+void apply_exposure(const CameraDesc& cam, int width, int height, float* rgb);
 
 }  // namespace aw

@@ -129,6 +129,9 @@ static inline uint mul_hi(uint a, uint b) { return (uint)(((uint64_t)a * b) >> 3
 /* ------------------------- shared helpers (both sides) ------------------------------------ */
 
 // Storage <-> math: shared structs keep float[3], math uses float3.
+// "No index" in every index field of the path state and the scene (a light, a triangle, a lobe).
+#define AW_NONE 0xffffffffu
+
 AW_FN float3 load_f3(const AW_GLOBAL float* p) { return make_float3(p[0], p[1], p[2]); }
 AW_FN float3 load_f3p(const float* p) { return make_float3(p[0], p[1], p[2]); }
 AW_FN void store_f3(AW_GLOBAL float* p, float3 v) { p[0] = v.x; p[1] = v.y; p[2] = v.z; }

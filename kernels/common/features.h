@@ -32,7 +32,8 @@
   X(BRDF_AS)           /* ... "ashikhmin_shirley" or "ashikhmin_shirley_legacy" */             \
   X(FRESNEL_CONDUCTOR) /* ... fresnel.medium "conductor" (with use_ior) */                     \
   X(FRESNEL_CURVE)     /* ... fresnel.use_ior false (facing/perpendicular/curve) */            \
-  X(THIN_WALLED)       /* refraction.thin_walled on a material that reflects or transmits */
+  X(THIN_WALLED)       /* refraction.thin_walled on a material that reflects or transmits */ \
+  X(AO)                /* ambient occlusion enabled (integrator/ambient_occlusion.h) */
 
 // Scene features: light types, lobe splitting and the sampler, decided from the scene as a whole.
 // The Owen-scrambled Sobol' sampler (the default, and zsobol's continuation past its block) is
@@ -41,6 +42,10 @@
 // docs/performance.md, "The sampler, built in".
 #define AW_SCENE_FEATURE_LIST(X) \
   X(LIGHT_POINT) X(LIGHT_QUAD) X(LIGHT_DISK) X(LIGHT_SPHERE) \
+  X(LIGHT_SUN) /* a sun light (lights/lights.h) */ \
+  X(ENV_MAP) /* environment "map" or "sky": an importance-sampled lat-long map (lights/environment.h) */ \
+  X(LIGHT_MESH) /* triangles of light-sampled incandescent objects (AW_LIGHT_TRIANGLE) */ \
+  X(LIGHT_TREE) /* many lights: the light tree chooses and finds them (lights/light_tree.h) */ \
   X(SPLIT) /* per-lobe samples split rays at the first hit (integrator/split.h) */ \
   X(SAMPLER_INDEPENDENT) X(SAMPLER_ZSOBOL) /* render.sampler (common/rng.h) */
 

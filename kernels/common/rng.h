@@ -44,6 +44,7 @@
 #define AW_DIM_LIGHT 3         // point on the light (2D)
 #define AW_DIM_BSDF 4          // direction from the lobe (2D)
 #define AW_DIM_RR 5            // Russian roulette (1D)
+#define AW_DIM_AO 6            // ambient-occlusion ray directions (2D; sample index s * n + k for n rays)
 
 // render.sampler
 #define AW_SAMPLER_SOBOL 0u

@@ -13,7 +13,7 @@
 #include "integrator/scene_ref.h"
 #include "common/features.h"
 #include "common/ray.h"
-#include "lights/lights.h"
+#include "integrator/light_select.h"
 #include "lobes/fog.h"
 #include "material/architectural.h"
 #include "material/lobe_list.h"
@@ -81,21 +81,47 @@ AW_FN void classify_fog(PathRef ps, SceneRef sc) {
 // Emission seen by the ray when it hit a light: MIS against light sampling, which could have
 // produced the same direction (Veach 1997, Sec. 9.2). Camera rays and delta bounces cannot
 // be light-sampled, so they take the full contribution.
-AW_FN void classify_light_hit(PathRef ps, SceneRef sc, uint light, float3 dir, float3 thr) {
+// The selection probability is the one light sampling had at the previous vertex, whose
+// position the shading point fields still hold (classify_store_shading_point comes later).
+AW_FN float classify_light_mis(PathRef ps, SceneRef sc, const RenderParams* rp, uint light, float3 dir) {
+  if (PS_U(ps, bounce) == 0u || (PS_U(ps, flags) & AW_PATH_SPECULAR)) return 1.0f;
   const AW_GLOBAL LightGpu* l = &sc.lights[light];
-  float3 le = light_emitted(l, dir);
-  float w = 1.0f;
-  if (PS_U(ps, bounce) > 0u && !(PS_U(ps, flags) & AW_PATH_SPECULAR)) {
-    float pdf_light = l->select_pdf * light_pdf(l, ps_ray_origin(ps), dir, PS_F(ps, hit_t));
-    w = mis_power(PS_F(ps, bsdf_pdf), pdf_light);
-  }
+  float pdf_light = light_select_pmf(sc, rp, light, ps_sp_position(ps)) * light_pdf(l, ps_ray_origin(ps), dir, PS_F(ps, hit_t));
+  return mis_power(PS_F(ps, bsdf_pdf), pdf_light);
+}
+
+AW_FN void classify_light_hit(PathRef ps, SceneRef sc, const RenderParams* rp, uint light, float3 dir, float3 thr) {
+  float3 le = light_emitted(&sc.lights[light], dir);
+  float w = classify_light_mis(ps, sc, rp, light, dir);
   ps_add_radiance(ps, thr * le * (w * PS_F(ps, emit_scale)));
 }
 
-// The ray left the scene: the constant environment. No light sampling for it yet, so BSDF
-// sampling takes it all.
-AW_FN void classify_environment(PathRef ps, const RenderParams* rp, float3 thr) {
-  ps_add_radiance(ps, thr * load_f3p(rp->env_radiance) * PS_F(ps, emit_scale));
+// The ray left the scene. The constant environment is not light-sampled (a uniform sphere
+// of directions is what cosine-weighted BSDF sampling already draws well), so BSDF sampling
+// takes all of it. The lights at infinity, lights[0, num_infinite), are: the environment map
+// and soft suns are MIS-weighted against their light samples exactly as area lights are in
+// classify_light_hit (a hard sun is a delta, which no escaping ray can hit).
+AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp, float3 dir, float3 thr) {
+  float3 le = load_f3p(rp->env_radiance);
+  int mis = PS_U(ps, bounce) > 0u && !(PS_U(ps, flags) & AW_PATH_SPECULAR);
+  for (uint i = 0u; (AW_FEAT_LIGHT_SUN || AW_FEAT_ENV_MAP) && i < rp->num_infinite; ++i) {
+    const AW_GLOBAL LightGpu* l = &sc.lights[i];
+    float3 li;
+    float pdf;
+    if (AW_FEAT_ENV_MAP && l->type == AW_LIGHT_ENV) {
+      li = env_radiance(sc.env, rp, dir);
+      pdf = mis ? env_pdf(sc.env, rp, dir) : 0.0f;
+    } else if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) {
+      pdf = sun_pdf(l, dir);
+      // Outside the disc, a hard sun, or a sun that camera rays do not see (light.visible).
+      if (!(pdf > 0.0f) || (PS_U(ps, bounce) == 0u && !(l->flags & AW_LIGHT_VISIBLE))) continue;
+      li = load_f3(l->radiance);
+    } else {
+      continue;
+    }
+    le += li * (mis ? mis_power(PS_F(ps, bsdf_pdf), l->select_pdf * pdf) : 1.0f);
+  }
+  ps_add_radiance(ps, thr * le * PS_F(ps, emit_scale));
 }
 
 AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
@@ -214,11 +240,11 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   // 1. The ray ended: on a light, or in the environment.
   uint light = PS_U(ps, hit_light);
   if (light != AW_NONE) {
-    classify_light_hit(ps, sc, light, dir, thr);
+    classify_light_hit(ps, sc, rp, light, dir, thr);
     return AW_Q_DONE;
   }
   if (PS_U(ps, hit_prim) == AW_NONE) {
-    classify_environment(ps, rp, thr);
+    classify_environment(ps, sc, rp, dir, thr);
     return AW_Q_DONE;
   }
 
@@ -246,20 +272,33 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
     return AW_Q_PASS;
   }
 
-  // 5. Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
-  // so no MIS: found by BSDF sampling only.)
-  if (AW_FEAT_INCANDESCENCE) {
-    float3 inc = load_f3(m->incandescent);
-    if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * PS_F(ps, emit_scale));
-  }
-
-  // 6. A path that has used up its scattering events ends here. (Its last ray was still
+  // 5. A path that has used up its scattering events ends here. (Its last ray was still
   // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
-  if (PS_U(ps, bounce) >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY)) return AW_Q_DONE;
+  // Ambient occlusion runs only where the path scatters on (ambient_occlusion.h).
+  int ends = PS_U(ps, bounce) >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY);
+  int ao = AW_FEAT_AO && m->ao_samples > 0u && !ends;
 
-  // 7. The shading point for the lobe stage, and the lobe that scatters the path.
+  // 6. Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
+  // so no MIS: found by BSDF sampling only.) AO in multiply mode with apply_to_incandescence
+  // darkens it: the AO stage adds it then.
+  // A triangle of a light-sampled object is a light: its emission is MIS-weighted against
+  // the light samples that could have found it, and AO never dims it.
+  uint tri_light = triangle_light(sc, rp, PS_U(ps, hit_prim));
+  if (AW_FEAT_INCANDESCENCE &&
+      (tri_light != AW_NONE || !(ao && (m->ao_flags & AW_AO_MULTIPLY) && (m->ao_flags & AW_AO_INCANDESCENCE)))) {
+    float3 inc = load_f3(m->incandescent);
+    float w = tri_light != AW_NONE ? classify_light_mis(ps, sc, rp, tri_light, dir) : 1.0f;
+    if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * (w * PS_F(ps, emit_scale)));
+  }
+  if (ends) return AW_Q_DONE;
+
+  // 7. The shading point for the lobe stage, and the lobe that scatters the path; with AO, the
+  // AO stage first, which hands the path on to that lobe (or ends it when there is none).
   float3 tangent = classify_store_shading_point(ps, m, tri->material, h, v0, v1, v2);
-  return classify_choose_lobe(ps, m, rp, dir, h.n, tangent, h.front);
+  int q = classify_choose_lobe(ps, m, rp, dir, h.n, tangent, h.front);
+  if (!ao) return q;
+  if (q == AW_Q_DONE) PS_U(ps, lobe) = AW_NONE;
+  return (PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) ? q : AW_Q_AO;
 }
 
 #endif

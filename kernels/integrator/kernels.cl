@@ -13,6 +13,7 @@
 #endif
 
 #include "integrator/accumulate.h"
+#include "integrator/ambient_occlusion.h"
 #include "integrator/classify_hit.h"
 #include "integrator/generate_camera_ray.h"
 #include "integrator/intersect_closest.h"
@@ -50,7 +51,7 @@
 
 // The path in slot `slot` and the scene, from the stage arguments.
 #define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, rp.pool_size, (slot))
-#define AW_STAGE_SCENE scene_ref_make(tri_info, verts, materials, lights, nodes, tris, rp.num_nodes)
+#define AW_STAGE_SCENE scene_ref_make(tri_info, verts, materials, lights, env, light_tree, tri_light, nodes, tris, rp.num_nodes)
 #define AW_QUEUE(q) (queues + (uint)(q) * rp.pool_size)
 
 static inline PathRef path_ref_make(__global float* sf, __global uint* su, __global float* snap_f,
@@ -67,12 +68,17 @@ static inline PathRef path_ref_make(__global float* sf, __global uint* su, __glo
 
 static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, const __global VertexData* verts,
                                       const __global MaterialGpu* materials, const __global LightGpu* lights,
+                                      const __global float* env, const __global LightTreeNode* light_tree,
+                                      const __global uint* tri_light,
                                       const __global float4* nodes, const __global float4* tris, uint num_nodes) {
   SceneRef sc;
   sc.tri_info = tri_info;
   sc.verts = verts;
   sc.materials = materials;
   sc.lights = lights;
+  sc.env = env;
+  sc.light_tree = light_tree;
+  sc.tri_light = tri_light;
   sc.nodes = nodes;
   sc.tris = tris;
   sc.num_nodes = num_nodes;
@@ -179,6 +185,16 @@ AW_STAGE_KERNEL(kernel_pass_through) {
   }
 AW_LOBE_LIST(AW_SHADE_KERNEL)
 #undef AW_SHADE_KERNEL
+
+// Ambient occlusion (integrator/ambient_occlusion.h): it traces rays, so it is built scalar
+// on Intel's runtime like the other ray stages. Empty in builds without AO.
+AW_STAGE_KERNEL_SCALAR(kernel_ambient_occlusion) {
+  AW_APPEND_LOCALS;
+  uint slot = 0u;
+  uint q = AW_Q_COUNT;
+  if (AW_FEAT_AO && AW_STAGE_SLOT(AW_Q_AO, slot)) q = (uint)ambient_occlusion(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
+  AW_APPEND(q, slot);
+}
 
 AW_STAGE_KERNEL_SCALAR(kernel_intersect_shadow) {
   uint slot = 0u;

@@ -9,6 +9,7 @@
 #define AW_INTEGRATOR_MEGAKERNEL_H
 
 #include "integrator/accumulate.h"
+#include "integrator/ambient_occlusion.h"
 #include "integrator/classify_hit.h"
 #include "integrator/generate_camera_ray.h"
 #include "integrator/intersect_closest.h"
@@ -37,6 +38,8 @@ AW_FN float3 megakernel_path(PathRef ps, SceneRef sc, const RenderParams* rp, ui
       q = classify_hit(ps, sc, rp);
     } else if (q == AW_Q_PASS) {
       q = AW_Q_RAY;  // pass_through: the same ray goes on beyond the cutout
+    } else if (q == AW_Q_AO) {
+      q = ambient_occlusion(ps, sc, rp);
     } else if (q >= AW_Q_LOBE) {
       q = shade_surface(ps, sc, rp, (uint)(q - AW_Q_LOBE));
       if (PS_U(ps, flags) & AW_PATH_HAS_SHADOW) {

@@ -31,7 +31,7 @@ enum {
 #define AW_PATH_MISSING_FEATURE 16u  // hit a material feature this kernel build lacks (a bug)
 #define AW_PATH_SPLIT 32u            // the first-hit lobe is being split (integrator/split.h)
 
-#define AW_NONE 0xffffffffu
+// AW_NONE (no index): common/compat.h
 
 // The render's sampler (render.sampler and what it needs of the image), for rng_1d/rng_2d.
 AW_FN Sampler rp_sampler(const RenderParams* rp) {

@@ -17,6 +17,9 @@ typedef struct {
   const AW_GLOBAL VertexData* verts;
   const AW_GLOBAL MaterialGpu* materials;
   const AW_GLOBAL LightGpu* lights;
+  const AW_GLOBAL float* env;  // the environment map (lights/environment.h), when the scene has one
+  const AW_GLOBAL LightTreeNode* light_tree;  // many lights (lights/light_tree.h), when the scene has it
+  const AW_GLOBAL uint* tri_light;  // per triangle its light or AW_NONE, when the scene has mesh lights
 #if AW_DEVICE
   const __global float4* nodes;  // the flattened BVH (kernels/types/bvh.h)
   const __global float4* tris;

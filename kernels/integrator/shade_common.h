@@ -9,23 +9,8 @@
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
 #include "integrator/scene_ref.h"
-#include "lights/lights.h"
+#include "integrator/light_select.h"
 #include "lobes/lobe.h"
-
-// Picks a light and a point on it. Returns the sample and writes the pick into *light and
-// the combined (selection × solid angle) pdf into *pdf; pdf 0 = nothing to connect to.
-AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, float3 p,
-                                   uint* light, float* pdf) {
-  uint pixel = PS_U(ps, pixel), sample = PS_U(ps, sample), bounce = PS_U(ps, bounce);
-  // One light: light_pick returns it for any u (its alias entry keeps it with probability 1),
-  // so no random number is drawn for the pick.
-  float u_pick = rp->num_lights > 1u ? rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK) : 0.0f;
-  *light = light_pick(sc.lights, rp->num_lights, u_pick);
-  const AW_GLOBAL LightGpu* l = &sc.lights[*light];
-  LightSample ls = light_sample(l, p, rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT));
-  *pdf = ls.pdf * l->select_pdf;
-  return ls;
-}
 
 // Writes the shadow ray for a light sample whose unoccluded contribution is `contrib`.
 AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, uint light, float3 contrib) {

@@ -29,7 +29,10 @@
   BUFFER(TriangleInfo, tri_info)                                                            \
   BUFFER(VertexData, verts)                                                                 \
   BUFFER(MaterialGpu, materials)                                                            \
-  BUFFER(LightGpu, lights)
+  BUFFER(LightGpu, lights)                                                                  \
+  BUFFER(float, env)      /* the environment map (lights/environment.h) */                 \
+  BUFFER(LightTreeNode, light_tree) /* the light tree (lights/light_tree.h) */             \
+  BUFFER(uint, tri_light) /* per triangle its mesh light, or AW_NONE */
 
 enum {
   AW_ARG_rp,

@@ -51,6 +51,49 @@ AW_FN float sphere_one_minus_cos_max(float sin2_max) {
   return sin2_max / (1.0f + cos_max);
 }
 
+/* ------------------------------------- the sun ------------------------------------------ */
+// A sun of angular diameter 2 alpha is a disc of uniform radiance L at infinity: the
+// irradiance on a surface facing it is L times the projected solid angle of the cone,
+// pi sin^2 alpha (Pharr, Jakob & Humphreys, PBR 3rd ed., Sec. 5.5.1, Eq. 5.5 integrated over
+// the cone), so L = E / (pi sin^2 alpha) for the scene's irradiance E (host/render/scene_pack.cpp).
+// It is sampled uniformly in that cone (pdf 1 / (2 pi (1 - cos alpha)), PBR Sec. 13.6.4) and
+// found by escaping rays within it, MIS-weighted (classify_hit.h). A hard sun (alpha = 0) is
+// a delta: sampled only, radiance = E along its one direction.
+
+// Density of drawing `dir` from a soft sun; 0 outside its cone and for a hard sun.
+AW_FN float sun_pdf(const AW_GLOBAL LightGpu* l, float3 dir) {
+  if (!(l->area > 0.0f) || dot(dir, load_f3(l->n)) < l->radius) return 0.0f;
+  return 1.0f / (2.0f * M_PI_F * l->area);
+}
+
+// Distance given to samples of lights at infinity: shadow rays test the whole line.
+#define AW_INFINITE_DISTANCE FLT_MAX
+
+AW_FN LightSample sun_sample(const AW_GLOBAL LightGpu* l, float2 u) {
+  LightSample s;
+  s.dist = AW_INFINITE_DISTANCE;
+  s.le = load_f3(l->radiance);
+  float3 n = load_f3(l->n);
+  if (!(l->area > 0.0f)) {
+    s.wi = n;
+    s.pdf = 1.0f;
+    s.is_delta = 1;
+    return s;
+  }
+  // Uniform in the cone, with 1 - cos theta = u.x (1 - cos alpha) kept as a small number so
+  // that sin theta = sqrt((1 - cos)(1 + cos)) does not cancel for the sun's 0.27 degrees.
+  float omc = u.x * l->area;
+  float sin_t = safe_sqrt(omc * (2.0f - omc));
+  float sp, cp;
+  sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y
+  float3 t, b;
+  make_frame(n, &t, &b);
+  s.wi = normalize(frame_to_world(make_float3(cp * sin_t, sp * sin_t, 1.0f - omc), t, b, n));
+  s.pdf = 1.0f / (2.0f * M_PI_F * l->area);
+  s.is_delta = 0;
+  return s;
+}
+
 /* ------------------------------ spherical rectangles ------------------------------------ */
 // Uniform sampling of the solid angle a rectangle subtends: Urena, Fajardo & King 2013, "An
 // Area-Preserving Parametrization for Spherical Rectangles", EGSR (Computer Graphics Forum
@@ -161,6 +204,7 @@ AW_FN int light_quad_by_solid_angle(const AW_GLOBAL LightGpu* l, float3 p, SphRe
 // hitting it at distance `t`. Must match light_sample exactly (MIS relies on it).
 AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t) {
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return 0.0f;
+  if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) return sun_pdf(l, dir);
   if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     float3 c = load_f3(l->p);
     float3 pc = c - p;
@@ -192,6 +236,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   s.wi = make_float3(0.0f, 0.0f, 1.0f);
   float3 y;
   float pdf_solid_angle = 0.0f;  // set when the point was drawn uniformly in solid angle
+  if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) return sun_sample(l, u);
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) {
     float3 d = load_f3(l->p) - p;
     float d2 = dot(d, d);
@@ -234,6 +279,13 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
     sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y
     float3 nrm = make_float3(rxy * cp, rxy * sp, z);
     y = c + l->radius * nrm;
+  } else if (AW_FEAT_LIGHT_MESH && l->type == AW_LIGHT_TRIANGLE) {
+    // Uniform by area: the square-root warp to barycentrics (Turk 1990, "Generating Random
+    // Points in Triangles", Graphics Gems; PBR 3rd ed., Sec. 13.6.4). (Arvo's 1995 spherical
+    // triangles would sample by solid angle; the fixtures' small triangles seen from afar
+    // gain little from it, as the quads' measurement in docs/architecture.md shows.)
+    float su = sqrt(u.x);
+    y = load_f3(l->p) + (su * (1.0f - u.y)) * load_f3(l->u) + (su * u.y) * load_f3(l->v);
   } else if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD) {
     SphRect r;
     if (light_quad_by_solid_angle(l, p, &r)) {
@@ -261,6 +313,9 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
 // Distance along (org, dir) to area light `l` within (t_min, t_max), or -1.
 AW_FN float light_intersect(const AW_GLOBAL LightGpu* l, float3 org, float3 dir, float t_min, float t_max) {
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return -1.0f;
+  // Lights at infinity are found by rays that escape the scene (classify_hit.h), triangle
+  // lights as the geometry they are (classify_hit.h), not here.
+  if ((AW_FEAT_LIGHT_SUN || AW_FEAT_ENV_MAP || AW_FEAT_LIGHT_MESH) && l->type >= AW_LIGHT_SUN) return -1.0f;
   if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     // Geometric form of the quadratic, stable for far spheres: the discriminant is formed
     // from the squared distance to the ray (Haines et al. 2019, Ray Tracing Gems Ch. 7, Eq. 8).

@@ -223,6 +223,7 @@ AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
   if (m->cutout_opacity < 0.5f) f |= AW_FEATBIT_CUTOUT;
   if (positive3(m->incandescent)) f |= AW_FEATBIT_INCANDESCENCE;
   if ((m->flags & AW_MAT_THIN_WALLED) && (refl || transmit)) f |= AW_FEATBIT_THIN_WALLED;
+  if (m->ao_samples > 0u) f |= AW_FEATBIT_AO;
   return f;
 }
 

@@ -44,6 +44,8 @@ typedef struct {
 } LeafTriangle;
 
 // Per original triangle: vertex indices into the shared vertex arrays, and the material.
+// (Which triangles are lights is a separate array, sc.tri_light, present only in scenes with
+// mesh lights, so that this stays one uint4.)
 typedef struct {
   uint v[3];
   uint material;

@@ -36,4 +36,10 @@ AW_LAYOUT_ENTRY(32, VertexData, t)
 AW_LAYOUT_ENTRY(33, MaterialGpu, diffuse_weight)
 AW_LAYOUT_ENTRY(34, RenderParams, sampler)
 AW_LAYOUT_ENTRY(35, LightGpu, alias)
-#define AW_LAYOUT_COUNT 36
+AW_LAYOUT_SIZE(36, LightTreeNode)
+AW_LAYOUT_ENTRY(37, LightTreeNode, cos_o)
+AW_LAYOUT_ENTRY(38, LightTreeNode, child)
+AW_LAYOUT_ENTRY(39, LightGpu, tree_depth)
+AW_LAYOUT_ENTRY(40, RenderParams, has_mesh_lights)
+AW_LAYOUT_ENTRY(41, RenderParams, tree_prob)
+#define AW_LAYOUT_COUNT 42

@@ -13,6 +13,11 @@
 #define AW_MAT_SKIP_WEAK_INTERNAL 16u
 #define AW_MAT_TRANSLUCENCY 32u
 
+// Ambient occlusion flags (MaterialGpu.ao_flags; docs/material.md §4).
+#define AW_AO_MULTIPLY 1u        // combine "multiply" (else "add")
+#define AW_AO_INVERT 2u          // invert_normal
+#define AW_AO_INCANDESCENCE 4u   // apply_to_incandescence (multiply mode)
+
 // anisotropy.orientation: the frame's tangent from the mesh tangents (interpolated per
 // vertex) or from the triangle's UV parametrisation (dP/du). kernels/integrator/classify_hit.h
 #define AW_ANISO_TANGENT 0u
@@ -59,6 +64,15 @@ typedef struct {
   uint refl_depth;  // per-material trace depths (the global ones unless overridden)
   uint refr_depth;
   float diffuse_weight;
+  // Ambient occlusion (integrator/ambient_occlusion.h); ao_samples 0 = off.
+  float ao_shadow_color[3];
+  float ao_max_distance;  // 0 = unlimited
+  float ao_ambient_color[3];
+  float ao_spread;        // cone half-angle = spread * pi / 2
+  float ao_falloff;
+  uint ao_samples;
+  uint ao_flags;          // AW_AO_*
+  float ao_add_scale;     // add mode: 1, or 1 / the exposure scale with exposure_compensation
 } MaterialGpu;
 
 #endif

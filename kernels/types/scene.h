@@ -9,6 +9,14 @@
 #define AW_LIGHT_QUAD 1
 #define AW_LIGHT_DISK 2
 #define AW_LIGHT_SPHERE 3
+// Lights at infinity. The host puts them first in the light array (lights[0, num_infinite):
+// the environment map, if any, then the suns): a ray that escapes looks only at those
+// (classify_hit.h), and no ray ever hits them in lights_intersect.
+#define AW_LIGHT_SUN 4  // directional, or a cone of directions when its angle is > 0
+#define AW_LIGHT_ENV 5  // the environment map (lights/environment.h); radiance and layout in sc.env
+// A triangle of an incandescent object that opted in to light sampling (objects[].light_sampling):
+// sampled like an area light, hit as geometry (TriangleInfo.light points back here).
+#define AW_LIGHT_TRIANGLE 6
 
 #define AW_LIGHT_TWO_SIDED 1u
 #define AW_LIGHT_VISIBLE 2u
@@ -19,6 +27,11 @@
 //   quad:   p = corner, u = edge_u, v = edge_v, n = unit normal (edge_u × edge_v)
 //   disk:   p = center, n = unit normal, u/v = orthonormal tangents, radius
 //   sphere: p = center, radius
+//   sun:    n = unit vector towards the sun, radius = cos of the half-angle, area = 1 - that
+//           cosine (0: a hard sun, a delta); radiance = the disc's radiance, E / (pi sin^2 of
+//           the half-angle), or the irradiance E itself for a hard sun
+//   env:    nothing here but the selection fields (the map is sc.env, its size in RenderParams)
+//   triangle: p = vertex 0, u = v1 - v0, v = v2 - v0, n = unit normal, area; two-sided
 // radiance: W/m²/sr for area lights; for point lights the radiant intensity (W/sr).
 typedef struct {
   uint type;
@@ -32,10 +45,24 @@ typedef struct {
   float v[3];        // probability alias_q when its bin is drawn, else take light `alias`
   uint alias;
   float n[3];
-  float pad1;
+  uint tree_bits;    // the light's path from the light tree's root (lights/light_tree.h):
   float radiance[3];
-  float pad2;
+  uint tree_depth;   // bit k = 1: the second child at level k; tree_depth levels
 } LightGpu;
+
+// One node of the light tree (lights/light_tree.h), depth-first: an inner node's first child
+// is the next node, its second child is `child`; a leaf holds one light, `child` its index.
+typedef struct {
+  float bmin[3];
+  float power;       // selection power of the lights below (luminance, as for the alias table)
+  float bmax[3];
+  float cos_o;       // cone of the emitters' normals around axis: cos theta_o (-1: all directions)
+  float axis[3];
+  float cos_e;       // cos theta_e: how far around each normal the emitters emit (0: a hemisphere)
+  uint child;
+  uint leaf;
+  uint pad[2];
+} LightTreeNode;
 
 // Per-launch parameters, passed by value. Pixel (0,0) is the top-left corner.
 typedef struct {
@@ -68,6 +95,15 @@ typedef struct {
   uint sampler;    // AW_SAMPLER_* (kernels/common/rng.h)
   uint sampler_log2_spp;  // zsobol: ceil(log2(spp)) (common/rng.h, Sampler)
   uint sampler_bits;      // zsobol: 2 ceil(log2(max(width, height))) + sampler_log2_spp
+  uint num_infinite;      // lights[0, num_infinite) are at infinity: the environment map, the suns
+  uint env_width;         // the environment map (lights/environment.h), 0 x 0 without one
+  uint env_height;
+  float env_rot_cos;      // environment.rotation about +Y
+  float env_rot_sin;
+  uint ao_split_spp;      // spp when ao.samples split at the first hit (render.lobe_splitting), else 0
+  uint num_tree_nodes;    // the light tree's nodes; 0: lights are chosen by the alias table alone
+  float tree_prob;        // with a tree: the probability of choosing among its lights (their power share)
+  uint has_mesh_lights;   // sc.tri_light holds each triangle's light (AW_LIGHT_TRIANGLE) or AW_NONE
 } RenderParams;
 
 #endif

@@ -9,6 +9,8 @@ build/bench/bench_traversal), so what it measures is what a user runs. Sections:
   specialisation  specialised vs generic kernels: render time, cold and warm builds
   scaling         time vs triangle count and vs resolution, memory vs resolution
   devices         the same small table on every OpenCL device and the scalar path
+  lights          many lights (light tree against power, 1 to 10,000 lights: time and error),
+                  environment-map importance vs uniform sampling, AO against GI, AO samples
   race            archwave against Blender Cycles and Mitsuba 3 on the same scenes (issue 11):
                   time, RMSE, relMSE, time to equal error; peers that are missing are skipped
 
@@ -35,13 +37,13 @@ import os
 import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-SECTIONS = ("sweeps", "knobs", "throughput", "specialisation", "scaling", "devices", "race")
+SECTIONS = ("sweeps", "knobs", "throughput", "specialisation", "scaling", "devices", "lights", "race")
 # Fixed-size sections run first; what is left of the budget then goes to the adaptive ones
 # (sweeps and knobs), which size themselves from calibration renders. The race is fixed-size
 # too but runs last, so that it finds the sweeps' Cornell reference in the cache; the adaptive
 # sections leave its allowance to it (race.allowance: minutes, by the peers found; added to
 # the default budget).
-RUN_ORDER = ("throughput", "specialisation", "devices", "scaling", "sweeps", "knobs", "race")
+RUN_ORDER = ("throughput", "specialisation", "devices", "scaling", "lights", "sweeps", "knobs", "race")
 REF_SEED = 1000003  # references use another seed than the renders they judge (seed 0)
 REF_FACTOR = 16     # reference spp over the largest spp it judges, when the budget allows
 LARGE_GRID_JOBS = 1 << 18  # jobs that make every stage launch PoCL's large-grid kernel variant

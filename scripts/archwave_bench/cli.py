@@ -8,13 +8,13 @@ import time
 
 from . import REPO, RUN_ORDER, SECTIONS
 from . import __doc__ as PACKAGE_DOC
-from . import devices, knobs, race, scaling, specialisation, sweeps, throughput
+from . import devices, knobs, lights, race, scaling, specialisation, sweeps, throughput
 from .context import Context
 from .report import blocks, compose, update_docs, write_report
 from .tools import SuiteError, log
 
 MODULES = {"sweeps": sweeps, "knobs": knobs, "throughput": throughput, "specialisation": specialisation,
-           "scaling": scaling, "devices": devices, "race": race}
+           "scaling": scaling, "devices": devices, "lights": lights, "race": race}
 
 
 def budget_share(ctx, name, only):

@@ -13,7 +13,7 @@ python3 "$here/../../scripts/bench_suite.py" --quick --build "$build" --results 
 report=$(find "$out" -name report.md)
 [ -n "$report" ] || { echo "no report.md under $out" >&2; exit 1; }
 for section in "Machine and run" "Sample-count sweeps" "Knob sweeps at equal time" "Throughput" \
-               "Kernel specialisation" "Scaling" "Devices" "The race"; do
+               "Kernel specialisation" "Scaling" "Devices" "Lights, environment and AO" "The race"; do
   grep -q "^## $section" "$report" || { echo "report.md lacks the section '$section'" >&2; exit 1; }
 done
 grep -q "^### Dense launches vs queue launches" "$report" || { echo "report.md lacks the dense-launch table" >&2; exit 1; }

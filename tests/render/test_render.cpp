@@ -102,6 +102,23 @@ TEST(Analytic, InsideDiffuseSphereScalar) {
   check_sphere_interior(aw::render_scalar(scene, quiet_options()), "scalar");
 }
 
+// The global cut-off (render.cutoff) is Russian roulette with survival throughput / cutoff:
+// unbiased, so a harsh 0.3 (paths inside the sphere carry 0.5^k) keeps the exact answer.
+TEST(Analytic, InsideDiffuseSphereWithAHarshCutoffStaysExact) {
+  aw::Scene scene = aw::load_scene(src("tests/render/data/sphere_interior.json"), {"render.cutoff=0.3"});
+  check_sphere_interior(aw::render_wavefront(scene, quiet_options()), "wavefront, cutoff 0.3");
+}
+
+// render.clamp bounds every sample's largest channel (biased, off by default). Inside the
+// sphere every sample is at least the direct light's 0.5: clamped at 0.25 each is exactly it.
+TEST(Analytic, ClampBoundsEverySample) {
+  EXPECT_EQ(aw::load_scene(src("tests/render/data/sphere_interior.json")).render.clamp, 0.0f);
+  aw::Scene scene = aw::load_scene(src("tests/render/data/sphere_interior.json"), {"render.clamp=0.25"});
+  aw::RenderResult r = aw::render_wavefront(scene, quiet_options());
+  for (size_t p = 0; p < r.count.size(); ++p)
+    for (int c = 0; c < 3; ++c) ASSERT_FLOAT_EQ(r.sum[p * 3 + c] / float(r.count[p]), 0.25f) << "pixel " << p;
+}
+
 bool same_bits(const aw::RenderResult& a, const aw::RenderResult& b) {
   return a.sum.size() == b.sum.size() && std::memcmp(a.sum.data(), b.sum.data(), a.sum.size() * 4) == 0 &&
          a.count == b.count;

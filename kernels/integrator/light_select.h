@@ -1,0 +1,95 @@
+// Choosing lights and finding them, over the scene: the alias table alone (few lights), or the
+// lights at infinity's alias table beside the light tree (many lights, lights/light_tree.h),
+// the two chosen between by their power share (RenderParams.tree_prob). The probability a
+// light was chosen with is what MIS reads on both sides (light_select_pmf).
+#ifndef AW_INTEGRATOR_LIGHT_SELECT_H
+#define AW_INTEGRATOR_LIGHT_SELECT_H
+
+#include "common/features.h"
+#include "common/rng.h"
+#include "integrator/path_state.h"
+#include "integrator/scene_ref.h"
+#include "lights/environment.h"
+#include "lights/light_tree.h"
+#include "lights/lights.h"
+
+AW_FN int light_tree_used(const RenderParams* rp) { return AW_FEAT_LIGHT_TREE && rp->num_tree_nodes > 0u; }
+
+// The light a triangle is (objects[].light_sampling), or AW_NONE.
+AW_FN uint triangle_light(SceneRef sc, const RenderParams* rp, uint prim) {
+  return AW_FEAT_LIGHT_MESH && rp->has_mesh_lights ? sc.tri_light[prim] : AW_NONE;
+}
+
+// A light for next-event estimation at p from one uniform number, and its probability;
+// AW_NONE when the tree finds no light that can reach p.
+AW_FN uint light_choose(SceneRef sc, const RenderParams* rp, float3 p, float u, float* select) {
+  if (light_tree_used(rp)) {
+    if (u < rp->tree_prob) {
+      float pmf;
+      uint li = light_tree_sample(sc.light_tree, p, fmin(u / rp->tree_prob, 0.99999994f), &pmf);
+      *select = rp->tree_prob * pmf;
+      return li;
+    }
+    // The lights at infinity: their alias table (built over them alone, lights[0, num_infinite)).
+    uint li = light_pick(sc.lights, rp->num_infinite, fmin((u - rp->tree_prob) / (1.0f - rp->tree_prob), 0.99999994f));
+    *select = sc.lights[li].select_pdf;
+    return li;
+  }
+  uint li = light_pick(sc.lights, rp->num_lights, u);
+  *select = sc.lights[li].select_pdf;
+  return li;
+}
+
+// The probability light_choose picks light `li` at p (the MIS partner of a BSDF ray that hits it).
+AW_FN float light_select_pmf(SceneRef sc, const RenderParams* rp, uint li, float3 p) {
+  if (light_tree_used(rp) && li >= rp->num_infinite) return rp->tree_prob * light_tree_pmf(sc.light_tree, &sc.lights[li], p);
+  return sc.lights[li].select_pdf;
+}
+
+// The closest analytic light along a ray (lights_intersect's contract), through the tree's
+// boxes when there is one.
+AW_FN int scene_lights_intersect(SceneRef sc, const RenderParams* rp, float3 org, float3 dir, float t_min, float* t,
+                                 int camera_ray, int skip) {
+  if (light_tree_used(rp)) return light_tree_intersect(sc.light_tree, sc.lights, org, dir, t_min, t, camera_ray, skip);
+  return lights_intersect(sc.lights, rp->num_lights, org, dir, t_min, t, camera_ray, skip);
+}
+
+// Picks a light and a point on it. Returns the sample and writes the pick into *light and
+// the combined (selection × solid angle) pdf into *pdf; pdf 0 = nothing to connect to.
+AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, float3 p,
+                                   uint* light, float* pdf) {
+  uint pixel = PS_U(ps, pixel), sample = PS_U(ps, sample), bounce = PS_U(ps, bounce);
+  // One light: light_pick returns it for any u (its alias entry keeps it with probability 1),
+  // so no random number is drawn for the pick.
+  float u_pick = rp->num_lights > 1u ? rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK) : 0.0f;
+  float select;
+  *light = light_choose(sc, rp, p, u_pick, &select);
+  if (*light == AW_NONE) {  // the tree found no light that can reach p
+    LightSample none;
+    none.pdf = 0.0f;
+    none.is_delta = 0;
+    none.dist = 0.0f;
+    none.le = make_float3(0.0f, 0.0f, 0.0f);
+    none.wi = make_float3(0.0f, 0.0f, 1.0f);
+    *light = 0u;
+    *pdf = 0.0f;
+    return none;
+  }
+  const AW_GLOBAL LightGpu* l = &sc.lights[*light];
+  float2 u = rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT);
+  LightSample ls;
+  if (AW_FEAT_ENV_MAP && l->type == AW_LIGHT_ENV) {
+    // The map's own 2-D distribution; the radiance of the very texel drawn (environment.h).
+    uint texel;
+    ls.wi = env_sample(sc.env, rp, u, &ls.pdf, &texel);
+    ls.le = env_texel_radiance(sc.env, texel);
+    ls.dist = AW_INFINITE_DISTANCE;
+    ls.is_delta = 0;
+  } else {
+    ls = light_sample(l, p, u);
+  }
+  *pdf = ls.pdf * select;
+  return ls;
+}
+
+#endif
