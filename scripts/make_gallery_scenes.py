@@ -201,8 +201,8 @@ EXAMPLES["sky_fresnel_steep"] = daylight(
 
 
 # The documentation's AO sequence: rings lying on a floor under sun and sky, photographic
-# exposure. No GI; AO added as ambient light (ambient 0.2, 256 samples); GI; GI with AO
-# multiplied in (shadow 0.2). The rings: tori, lathed from a circle with exact normals.
+# exposure. No GI; AO added as ambient light (ambient 0.2 where un-occluded, black where
+# occluded, 256 samples); GI; GI with AO multiplied in (shadow 0.2). The rings: tori, lathed from a circle with exact normals.
 def ring_profile(R, a, n=48):
     import math
     pts = [(R + a * math.cos(2 * math.pi * k / n), a + a * math.sin(2 * math.pi * k / n)) for k in range(n + 1)]
@@ -233,8 +233,11 @@ AO_CAMERA = {"position": [0, 3.2, 5.2], "look_at": [0, 0.2, 0.2], "up": [0, 1, 0
 AO_SUN = {"type": "sun", "direction": [0.35, -0.8, -0.5], "angle": 0.53, "intensity": 100000}
 for name, gi, ao in [
         ("ao_1_no_gi", False, None),
-        ("ao_2_add", False, {"enable": True, "combine": "add", "ambient_color": [0.2, 0.2, 0.2], "samples": 256,
-                             "max_distance": 2, "exposure_compensation": True}),
+        # shadow_color 0: with the default 0.2 an ambient of 0.2 would make AO = lerp(0.2, 0.2, v)
+        # a constant, and the add step a flat ambient term.
+        ("ao_2_add", False, {"enable": True, "combine": "add", "ambient_color": [0.2, 0.2, 0.2],
+                             "shadow_color": [0, 0, 0], "samples": 256, "max_distance": 2,
+                             "exposure_compensation": True}),
         ("ao_3_gi", True, None),
         ("ao_4_gi_multiply", True, {"enable": True, "combine": "multiply", "shadow_color": [0.2, 0.2, 0.2],
                                     "samples": 256, "max_distance": 2})]:
@@ -306,12 +309,15 @@ def room_with_window(w=6.0, h=3.0, d=5.0, win=(-0.9, 0.9, 0.9, 2.2)):
     return objs
 
 
+# Indoors the photographer opens up about three stops from sunny 16: ISO 100, 1/125 s, f/5.6.
+INTERIOR_EXPOSURE = {"mode": "photographic", "iso": 100, "shutter": 125, "f_number": 5.6}
 EXAMPLES["sun_window_interior"] = daylight(
     {"floor": {"diffuse": {"color": [0.45, 0.32, 0.2]}, "reflection": {"weight": 0.3, "glossiness": 0.7}},
      "wall": {"diffuse": {"color": [0.8, 0.8, 0.78]}, "reflection": {"weight": 0}}},
     room_with_window() + [{"shape": "sphere", "center": [0.2, 0.5, 0.3], "radius": 0.5, "material": "floor"}],
     {"position": [-2.6, 1.5, 2.2], "look_at": [1.5, 0.8, -0.6], "up": [0, 1, 0], "fov": 60},
     sun={"type": "sun", "direction": [-0.7, -0.45, 0.25], "angle": 0.53, "intensity": 100000}, spp=256)
+EXAMPLES["sun_window_interior"]["camera"]["exposure"] = INTERIOR_EXPOSURE
 
 
 def main():
