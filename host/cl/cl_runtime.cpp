@@ -208,6 +208,15 @@ cl::Buffer ClRuntime::buffer(const char* what, size_t bytes, cl_mem_flags flags,
                   " allows at most " + format_bytes(info_.max_alloc) +
                   " in one allocation; reduce the image size or the scene, or pick another --device");
   }
+  // The device's memory as a whole: a render that would not fit is refused with the sizes
+  // before the allocation that would fail (or, on a CPU device, before the host is driven
+  // into swap or the kernel's OOM killer).
+  if (info_.global_mem > 0 && allocated_bytes_ + n > info_.global_mem) {
+    throw ClError(std::string("buffer '") + what + "' needs " + format_bytes(n) + " on top of " +
+                  format_bytes(allocated_bytes_) + " already allocated, but " + info_.name + " has " +
+                  format_bytes(info_.global_mem) +
+                  " of global memory; reduce the image size, the path pool (--pool) or the scene, or pick another --device");
+  }
   try {
     cl::Buffer b = init && bytes ? cl::Buffer(context_, flags | CL_MEM_COPY_HOST_PTR, n, const_cast<void*>(init))
                                  : cl::Buffer(context_, flags, n);

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -56,6 +58,23 @@ void check_output_writable(const std::string& path) {
 }
 
 }  // namespace
+
+// "123", "500M", "8G", "1.5G" (powers of 1024) -> bytes; -1 for anything else.
+static double parse_size(const std::string& s) {
+  if (s.empty()) return -1;
+  char* end = nullptr;
+  double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || !(v >= 0) || !std::isfinite(v)) return -1;
+  std::string unit(end);
+  for (char& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
+  if (unit == "B") unit.clear();
+  if (!unit.empty() && unit.back() == 'B') unit.pop_back();  // "8GB" as "8G"
+  if (unit == "K") v *= 1024.0;
+  else if (unit == "M") v *= 1024.0 * 1024.0;
+  else if (unit == "G") v *= 1024.0 * 1024.0 * 1024.0;
+  else if (!unit.empty()) return -1;
+  return v < 1.8e19 ? std::floor(v) : -1;
+}
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -123,6 +142,16 @@ int main(int argc, char** argv) {
   app.add_option("--export-geometry", export_geometry,
                  "Write the scene's triangles as archwave builds them (world space, an OBJ group per "
                  "object) to this file and exit without rendering");
+  std::string max_memory;
+  app.add_option("--max-memory", max_memory,
+                 "Refuse a scene whose render would take more memory than SIZE (bytes, or with K, M, G: "
+                 "e.g. 8G), estimated object by object before its geometry is generated (default: the "
+                 "memory available now, MemAvailable; 0 = no limit)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            return parse_size(v) >= 0 ? std::string() : "'" + v + "' is not a size (bytes, or a number with K, M or G)";
+          },
+          "SIZE"));
   app.add_option("--stats-json", stats_json,
                  "Also write the render's stats (times, stages, rays, memory) as JSON to this file");
   try {
@@ -152,7 +181,15 @@ int main(int argc, char** argv) {
     if (app.count("--seed")) overrides.push_back("render.seed=" + seed);
     if (app.count("--width")) overrides.push_back("render.width=" + width);
     if (app.count("--height")) overrides.push_back("render.height=" + height);
-    aw::Scene scene = aw::load_scene(scene_path, overrides);
+    aw::LoadLimits limits;
+    if (app.count("--max-memory")) {
+      limits.max_bytes = uint64_t(parse_size(max_memory));
+      limits.source = "--max-memory " + max_memory;
+    } else {
+      limits.max_bytes = aw::available_memory_bytes();
+      limits.source = "the memory available now";
+    }
+    aw::Scene scene = aw::load_scene(scene_path, overrides, limits);
     if (!export_geometry.empty()) {
       aw::write_geometry_obj(scene, export_geometry);
       std::cerr << "wrote " << export_geometry << " (" << scene.meshes.size() << " meshes, "

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -549,7 +550,45 @@ std::string read_text_file(const std::string& path) {
   return s.str();
 }
 
-Scene load(const std::string& path, const std::vector<std::string>& overrides) {
+// Triangles a built-in shape will be tessellated into, read before it is (the shape's own
+// parse validates the keys; here an unreadable value counts as the default); 0 for meshes,
+// which are counted once read.
+uint64_t builtin_triangles(const Node& n) {
+  auto count = [&](const char* key, size_t i, int64_t def) -> int64_t {
+    const Json* j = n.j->contains(key) ? &(*n.j)[key] : nullptr;
+    if (j && j->is_array() && j->size() > i) j = &(*j)[i];
+    return j && j->is_number_integer() && j->get<int64_t>() > 0 ? j->get<int64_t>() : def;
+  };
+  if (!n.j->is_object() || !n.j->contains("shape") || !(*n.j)["shape"].is_string()) return 0;
+  const std::string shape = (*n.j)["shape"].get<std::string>();
+  if (shape == "sphere") {
+    const bool seg = n.j->contains("segments");
+    return uint64_t(seg ? count("segments", 0, 128) : 128) * uint64_t(2 * (seg ? count("segments", 1, 64) : 64) - 2);
+  }
+  if (shape == "disk") return uint64_t(count("segments", 0, 128));
+  if (shape == "box") return 12;
+  if (shape == "quad") return 2;
+  return 0;
+}
+
+std::string mib(uint64_t bytes) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
+  return buf;
+}
+
+// The memory check of LoadLimits: `triangles` (all so far, this object's included) against
+// the limit, failing at the object's key.
+void check_memory(const LoadContext& ctx, const Node& obj, const LoadLimits& limits, uint64_t triangles) {
+  if (limits.max_bytes == 0 || triangles * kRenderBytesPerTriangle <= limits.max_bytes) return;
+  ctx.fail(obj.path, "the scene reaches " + std::to_string(triangles) + " triangles here, which takes about " +
+                         mib(triangles * kRenderBytesPerTriangle) + " to render (" +
+                         std::to_string(kRenderBytesPerTriangle) + " B per triangle), more than the " +
+                         mib(limits.max_bytes) + " allowed (" + limits.source +
+                         "); nothing was allocated for it. --max-memory SIZE sets the limit");
+}
+
+Scene load(const std::string& path, const std::vector<std::string>& overrides, const LoadLimits& limits) {
   const std::string text = read_text_file(path);
   LocatedJson doc;
   JsonSyntaxError syntax;
@@ -607,11 +646,15 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides) {
     }
   });
 
+  uint64_t triangles = 0;
   if_present(root, "objects", [&](const Node& c) {
     expect_array(ctx, c);
     for (size_t i = 0; i < c.j->size(); ++i) {
       const Node obj = element(c, i);
+      check_memory(ctx, obj, limits, triangles + builtin_triangles(obj));
       scene.meshes.push_back(parse_object(ctx, obj, i, material_index, scene.material_names));
+      triangles += scene.meshes.back().indices.size();
+      check_memory(ctx, obj, limits, triangles);
       const TriangleMesh& m = scene.meshes.back();
       const MaterialDesc& md = scene.materials[m.material];
       const glm::vec3 inc = md.incandescent.color * md.incandescent.scale;
@@ -629,11 +672,21 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides) {
 }  // namespace
 }  // namespace scene_detail
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+uint64_t available_memory_bytes() {
+  std::ifstream f("/proc/meminfo");
+  std::string key;
+  uint64_t kb = 0;
+  std::string unit;
+  while (f >> key >> kb >> unit)
+    if (key == "MemAvailable:") return kb * 1024;
+  return 0;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, const LoadLimits& limits) {
   // SceneError is the only exception the rest of the renderer has to handle; anything a
   // library throws despite our checks becomes one too, still naming the file.
   try {
-    return scene_detail::load(path, overrides);
+    return scene_detail::load(path, overrides, limits);
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {
