@@ -197,8 +197,12 @@ class Wavefront {
     b.tags = rt_.buffer("queue tags", size_t(pool_) * 4);
     b.stats = upload(rt_, "stats counters", std::vector<uint32_t>(AW_STAT_COUNT, 0), CL_MEM_READ_WRITE);
     b.samples = rt_.buffer("batch samples", size_t(max_batch_) * 3 * 4);
-    b.film = upload(rt_, "film", std::vector<float>(size_t(npix_) * 3, 0.0f), CL_MEM_READ_WRITE);
-    b.film_count = upload(rt_, "film sample counts", std::vector<uint32_t>(npix_, 0), CL_MEM_READ_WRITE);
+    // Zeroed on the device: a host vector of zeros the film's size would be allocated (and
+    // filled) before the device could refuse a film too large for it.
+    b.film = rt_.buffer("film", size_t(npix_) * 3 * 4, CL_MEM_READ_WRITE);
+    rt_.queue().enqueueFillBuffer(b.film, 0.0f, 0, size_t(npix_) * 3 * 4);
+    b.film_count = rt_.buffer("film sample counts", size_t(npix_) * 4, CL_MEM_READ_WRITE);
+    rt_.queue().enqueueFillBuffer(b.film_count, uint32_t(0), 0, size_t(npix_) * 4);
     b.nodes = rt_.buffer("BVH nodes", bvh_.nodes.size() * sizeof(BvhNode), CL_MEM_READ_ONLY,
                          bvh_.nodes.empty() ? nullptr : bvh_.nodes.data());
     b.tris = rt_.buffer("BVH leaf triangles", bvh_.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,

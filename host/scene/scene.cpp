@@ -50,6 +50,14 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
   // 65536 per side is far beyond any film we write and keeps width * height in range.
   if_present(n, "width", [&](const Node& c) { r->width = read_int_in(ctx, c, 1, 65536); });
   if_present(n, "height", [&](const Node& c) { r->height = read_int_in(ctx, c, 1, 65536); });
+  // Pixel indices are 32-bit on the device (and a film of 2^31 pixels would take 32 GiB):
+  // caught here, naming the keys, rather than wrapping around in the renderer (found by the
+  // bad-input corpus: 65536 x 65536 rendered an empty film and failed in clEnqueueReadBuffer).
+  if (int64_t(r->width) * int64_t(r->height) > int64_t(kMaxInt)) {
+    ctx.fail(has(n, "height") ? join_key(n.path, "height") : join_key(n.path, "width"),
+             "width x height = " + std::to_string(int64_t(r->width) * int64_t(r->height)) +
+                 " pixels; at most 2^31 - 1 (" + std::to_string(kMaxInt) + ") are supported");
+  }
   if_present(n, "spp", [&](const Node& c) { r->spp = read_int_in(ctx, c, 1, kMaxInt); });
   if_present(n, "seed", [&](const Node& c) {
     const int64_t v = read_integer(ctx, c);
@@ -577,15 +585,16 @@ std::string mib(uint64_t bytes) {
   return buf;
 }
 
-// The memory check of LoadLimits: `triangles` (all so far, this object's included) against
-// the limit, failing at the object's key.
-void check_memory(const LoadContext& ctx, const Node& obj, const LoadLimits& limits, uint64_t triangles) {
-  if (limits.max_bytes == 0 || triangles * kRenderBytesPerTriangle <= limits.max_bytes) return;
-  ctx.fail(obj.path, "the scene reaches " + std::to_string(triangles) + " triangles here, which takes about " +
-                         mib(triangles * kRenderBytesPerTriangle) + " to render (" +
-                         std::to_string(kRenderBytesPerTriangle) + " B per triangle), more than the " +
-                         mib(limits.max_bytes) + " allowed (" + limits.source +
-                         "); nothing was allocated for it. --max-memory SIZE sets the limit");
+// The memory check of LoadLimits: the film and path pool (`fixed`) and `triangles` (all so
+// far, this object's included) against the limit, failing at `at`.
+void check_memory(const LoadContext& ctx, const std::string& at, const LoadLimits& limits, uint64_t fixed,
+                  uint64_t triangles) {
+  const uint64_t need = fixed + triangles * kRenderBytesPerTriangle;
+  if (limits.max_bytes == 0 || need <= limits.max_bytes) return;
+  ctx.fail(at, "the scene reaches " + std::to_string(triangles) + " triangles here; with its film and path pool (" +
+                   mib(fixed) + ") it takes about " + mib(need) + " to render (" +
+                   std::to_string(kRenderBytesPerTriangle) + " B per triangle), more than the " + mib(limits.max_bytes) +
+                   " allowed (" + limits.source + "); nothing was allocated for it. --max-memory SIZE sets the limit");
 }
 
 Scene load(const std::string& path, const std::vector<std::string>& overrides, const LoadLimits& limits) {
@@ -646,15 +655,19 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
     }
   });
 
+  // Film (per pixel: the device's sums and counts, the host's copy of both: 32 B) and the
+  // path pool (256 Ki states of about 230 B), before any geometry.
   uint64_t triangles = 0;
+  const uint64_t fixed_bytes = uint64_t(scene.render.width) * uint64_t(scene.render.height) * 32u + (uint64_t(64) << 20);
+  check_memory(ctx, "render", limits, fixed_bytes, 0);
   if_present(root, "objects", [&](const Node& c) {
     expect_array(ctx, c);
     for (size_t i = 0; i < c.j->size(); ++i) {
       const Node obj = element(c, i);
-      check_memory(ctx, obj, limits, triangles + builtin_triangles(obj));
+      check_memory(ctx, obj.path, limits, fixed_bytes, triangles + builtin_triangles(obj));
       scene.meshes.push_back(parse_object(ctx, obj, i, material_index, scene.material_names));
       triangles += scene.meshes.back().indices.size();
-      check_memory(ctx, obj, limits, triangles);
+      check_memory(ctx, obj.path, limits, fixed_bytes, triangles);
       const TriangleMesh& m = scene.meshes.back();
       const MaterialDesc& md = scene.materials[m.material];
       const glm::vec3 inc = md.incandescent.color * md.incandescent.scale;
