@@ -276,12 +276,13 @@ TEST(CliBadInput, UnwritableStatsJsonFailsBeforeRendering) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// An interrupted render writes the samples it completed, says so, and exits 130.
-TEST(Cli, InterruptKeepsWhatWasRendered) {
+// An interrupted render writes the samples it completed, says so, and exits 130; SIGTERM (what
+// a scheduler or `kill` sends) behaves exactly like SIGINT.
+void check_interrupt(int sig, const std::string& tag) {
   // Fill the kernel cache first, so the interrupt lands while rendering, not while compiling
   // (a cold build takes seconds on a loaded machine).
   ASSERT_EQ(run(src("scenes/cornell.json") + " --spp 1 --width 8 --height 8 -o " + scratch() + "/warm.exr").code, 0);
-  std::string out = scratch() + "/interrupted.exr";
+  std::string out = scratch() + "/interrupted_" + tag + ".exr";
   fs::remove(out);
   pid_t pid = fork();
   ASSERT_GE(pid, 0);
@@ -294,7 +295,7 @@ TEST(Cli, InterruptKeepsWhatWasRendered) {
   }
   // Let it compile and render a while (kernels are cached by other tests), then ^C.
   std::this_thread::sleep_for(std::chrono::seconds(4));
-  kill(pid, SIGINT);
+  kill(pid, sig);
   int status = 0;
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
@@ -308,6 +309,9 @@ TEST(Cli, InterruptKeepsWhatWasRendered) {
   for (float v : img.rgb) mean += v;
   EXPECT_GT(mean, 0.0);
 }
+
+TEST(Cli, InterruptKeepsWhatWasRendered) { check_interrupt(SIGINT, "int"); }
+TEST(Cli, TerminateKeepsWhatWasRenderedLikeInterrupt) { check_interrupt(SIGTERM, "term"); }
 
 }  // namespace
 
