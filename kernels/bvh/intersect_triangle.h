@@ -62,7 +62,9 @@ AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return 0;
   float det = U + V + W;
   if (det == 0.0f) return 0;
-  // Scaled hit distance; compare against the scaled interval before the division (Sec. 3).
+  // Scaled hit distance (Sec. 3), divided once by the determinant and then compared with the
+  // interval (the paper compares T against the scaled interval before dividing; dividing first
+  // costs the division for misses too but keeps t_min exclusive exactly as the stages need).
   float T = U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz);
   float inv_det = 1.0f / det;
   float t = T * inv_det;

@@ -25,6 +25,7 @@
 
 #include "common/compat.h"
 #include "common/features.h"
+#include "bvh/traverse.h"
 #include "lights/lights.h"
 #include "types/scene.h"
 
@@ -131,7 +132,10 @@ AW_FN int light_node_hit(const AW_GLOBAL LightTreeNode* nd, float3 o, float3 inv
 // many lights would make the loop over all of them the cost of every ray.
 AW_FN int light_tree_intersect(const AW_GLOBAL LightTreeNode* tree, const AW_GLOBAL LightGpu* lights, float3 org,
                                float3 dir, float t_min, float* t, int camera_ray, int skip) {
-  float3 inv_d = make_float3(1.0f / dir.x, 1.0f / dir.y, 1.0f / dir.z);
+  // safe_rcp (bvh/traverse.h): a zero direction component gives a huge finite reciprocal, so a
+  // ray starting on a box's plane computes 0 x 1e30 = 0, never 0 x inf = NaN, which the host's
+  // and the device's fmin would treat differently.
+  float3 inv_d = make_float3(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z));
   uint stack[AW_LIGHT_TREE_STACK];
   uint sp = 0u;
   uint i = 0u;

@@ -195,8 +195,16 @@ TEST(LightTree, IntersectionThroughTheTreeEqualsTheLoop) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   size_t hits = 0;
   for (int k = 0; k < 20000; ++k) {
-    const float3 o = random_point(rng);
-    const float3 d = normalize(make_float3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+    float3 o = random_point(rng);
+    float3 d = normalize(make_float3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+    if (k % 4 == 1) {
+      // Axis-aligned rays that start exactly on a light's coordinate planes (zero direction
+      // components: 0 x 1/0 would be NaN without safe_rcp).
+      const LightGpu& l = s.lights[k % s.lights.size()];
+      o = make_float3(l.p[0], l.p[1], o.z);
+      const int axis = (k / 4) % 3;
+      d = make_float3(axis == 0 ? 1.0f : 0.0f, axis == 1 ? -1.0f : 0.0f, axis == 2 ? 1.0f : 0.0f);
+    }
     float t_loop = 1e30f, t_tree = 1e30f;
     const int skip = k % 3 == 0 ? int(k % s.lights.size()) : -1;
     const int a = lights_intersect(s.lights.data(), uint32_t(s.lights.size()), o, d, 0.0f, &t_loop, k % 2, skip);
