@@ -2,6 +2,8 @@
 // Private to host/scene.
 #pragma once
 
+#include <cstdint>
+
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -42,6 +44,13 @@ struct DMesh {
 // same formula as the kernels' make_frame (kernels/common/sampling.h), in double.
 void orthonormal_basis(const glm::dvec3& n, glm::dvec3* t, glm::dvec3* b);
 
+// Built-in shapes' default tessellation, and the triangle counts make_sphere / make_disk
+// produce (the loader's memory estimate reads them before tessellating).
+constexpr int kSphereSegmentsU = 128, kSphereSegmentsV = 64, kDiskSegments = 128;
+constexpr uint64_t sphere_triangle_count(int64_t segments_u, int64_t segments_v) {
+  return uint64_t(segments_u) * uint64_t(2 * segments_v - 2);  // no triangle at the two pole rows' tips
+}
+constexpr uint64_t disk_triangle_count(int64_t segments) { return uint64_t(segments); }
 DMesh make_sphere(const glm::dvec3& center, double radius, int segments_u, int segments_v);
 DMesh make_quad(const glm::dvec3& corner, const glm::dvec3& edge_u, const glm::dvec3& edge_v);
 DMesh make_disk(const glm::dvec3& center, const glm::dvec3& normal, double radius, int segments);

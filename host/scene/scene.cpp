@@ -449,7 +449,7 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
       expect_object(ctx, n, keys({"center", "radius", "segments"}));
       glm::dvec3 center(0.0);
       double radius = 1.0;
-      int su = 128, sv = 64;
+      int su = kSphereSegmentsU, sv = kSphereSegmentsV;
       if_present(n, "center", [&](const Node& c) { center = read_vec3(ctx, c); });
       if_present(n, "radius", [&](const Node& c) {
         radius = read_number_in(ctx, c, Range{0, kInf, true});
@@ -481,7 +481,7 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
       expect_object(ctx, n, keys({"center", "normal", "radius", "segments"}));
       glm::dvec3 center(0.0), normal(0, 1, 0);
       double radius = 1.0;
-      int segments = 128;
+      int segments = kDiskSegments;
       if_present(n, "center", [&](const Node& c) { center = read_vec3(ctx, c); });
       if_present(n, "normal", [&](const Node& c) {
         normal = read_vec3(ctx, c);
@@ -569,11 +569,9 @@ uint64_t builtin_triangles(const Node& n) {
   };
   if (!n.j->is_object() || !n.j->contains("shape") || !(*n.j)["shape"].is_string()) return 0;
   const std::string shape = (*n.j)["shape"].get<std::string>();
-  if (shape == "sphere") {
-    const bool seg = n.j->contains("segments");
-    return uint64_t(seg ? count("segments", 0, 128) : 128) * uint64_t(2 * (seg ? count("segments", 1, 64) : 64) - 2);
-  }
-  if (shape == "disk") return uint64_t(count("segments", 0, 128));
+  if (shape == "sphere")
+    return sphere_triangle_count(count("segments", 0, kSphereSegmentsU), count("segments", 1, kSphereSegmentsV));
+  if (shape == "disk") return disk_triangle_count(count("segments", 0, kDiskSegments));
   if (shape == "box") return 12;
   if (shape == "quad") return 2;
   return 0;

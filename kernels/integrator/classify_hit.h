@@ -278,11 +278,11 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   int ends = PS_U(ps, bounce) >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY);
   int ao = AW_FEAT_AO && m->ao_samples > 0u && !ends;
 
-  // 6. Incandescence: emission added to the shaded result at every hit. (Not light-sampled,
-  // so no MIS: found by BSDF sampling only.) AO in multiply mode with apply_to_incandescence
-  // darkens it: the AO stage adds it then.
-  // A triangle of a light-sampled object is a light: its emission is MIS-weighted against
-  // the light samples that could have found it, and AO never dims it.
+  // 6. Incandescence: emission added to the shaded result at every hit. Found by BSDF sampling
+  // alone (weight 1), unless the triangle belongs to a light-sampled object: then it is a
+  // light, MIS-weighted against the light samples that could have found it, and AO never dims
+  // it. Otherwise AO in multiply mode with apply_to_incandescence darkens it: the AO stage
+  // adds it then.
   uint tri_light = triangle_light(sc, rp, PS_U(ps, hit_prim));
   if (AW_FEAT_INCANDESCENCE &&
       (tri_light != AW_NONE || !(ao && (m->ao_flags & AW_AO_MULTIPLY) && (m->ao_flags & AW_AO_INCANDESCENCE)))) {

@@ -195,6 +195,36 @@ inline double chi_square_p_value(double statistic, int dof) {
   return regularized_gamma_q(0.5 * double(dof), 0.5 * statistic);
 }
 
+// Pearson's chi-square of observed against expected counts over discrete cells (a histogram
+// the caller already binned: texels, lights), cells expecting fewer than min_expected pooled
+// into one, the usual validity rule. Cells expecting 0 must be left out by the caller.
+struct PooledChiSquare {
+  double statistic = 0.0;
+  int dof = -1;
+  double p_value = 1.0;
+};
+inline PooledChiSquare pooled_chi_square(const std::vector<double>& observed, const std::vector<double>& expected,
+                                         double min_expected = 5.0) {
+  PooledChiSquare r;
+  double pooled_o = 0.0, pooled_e = 0.0;
+  for (size_t i = 0; i < observed.size(); ++i) {
+    const double o = observed[i], e = expected[i];
+    if (e < min_expected) {
+      pooled_o += o;
+      pooled_e += e;
+      continue;
+    }
+    r.statistic += (o - e) * (o - e) / e;
+    ++r.dof;
+  }
+  if (pooled_e > 0.0) {
+    r.statistic += (pooled_o - pooled_e) * (pooled_o - pooled_e) / pooled_e;
+    ++r.dof;
+  }
+  r.p_value = chi_square_p_value(r.statistic, r.dof);
+  return r;
+}
+
 // Adaptive Simpson quadrature (Kuncir 1962; the |S2 - S1| <= 15 eps acceptance and the
 // Richardson term (S2 - S1) / 15 of Lyness 1969). min_depth forces a few subdivisions before
 // the first acceptance so that a peak narrower than the interval is not stepped over.

@@ -9,10 +9,28 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
 
 #include "host/render/render.h"
 
 namespace aw_test {
+
+// Lambert's formula for the irradiance at the origin, normal +y, from a polygon of uniform
+// radiance (its vertices v): L/2 sum_i theta_i (n . u_i), theta_i the angle edge i subtends and
+// u_i the unit normal of the plane through the origin and that edge (Arvo 1995, "Applications
+// of Irradiance Tensors...", Sec. 3).
+inline double polygon_irradiance(const std::vector<glm::dvec3>& v, double radiance) {
+  double sum = 0.0;
+  for (size_t i = 0; i < v.size(); ++i) {
+    glm::dvec3 a = glm::normalize(v[i]), b = glm::normalize(v[(i + 1) % v.size()]);
+    double theta = std::acos(glm::clamp(glm::dot(a, b), -1.0, 1.0));
+    glm::dvec3 u = glm::normalize(glm::cross(a, b));
+    sum += theta * u.y;
+  }
+  return std::fabs(sum) * radiance / 2.0;
+}
 
 // Writes `json` to a new scene file named after `prefix`, this process and a counter, and
 // returns its path. Unique per process: ctest runs test cases as parallel processes, and

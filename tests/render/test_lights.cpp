@@ -62,18 +62,6 @@ void expect_radiance(const std::string& scene_path, double expected, const char*
   EXPECT_NEAR(s / expected, 1.0, 0.01) << what << " (scalar)";
 }
 
-// Lambert's formula for a polygon seen from the origin with normal +y.
-double polygon_irradiance(const std::vector<glm::dvec3>& v, double radiance) {
-  double sum = 0.0;
-  for (size_t i = 0; i < v.size(); ++i) {
-    glm::dvec3 a = glm::normalize(v[i]), b = glm::normalize(v[(i + 1) % v.size()]);
-    double theta = std::acos(glm::clamp(glm::dot(a, b), -1.0, 1.0));
-    glm::dvec3 u = glm::normalize(glm::cross(a, b));
-    sum += theta * u.y;
-  }
-  return std::fabs(sum) * radiance / 2.0;
-}
-
 TEST(Lights, PointLightInverseSquare) {
   // I = 2 W/sr at h = 1.5: E = 2 / 2.25, L = E / pi.
   expect_radiance(scene_with(R"({ "type": "point", "position": [0, 1.5, 0], "intensity": 2 })"),
@@ -99,7 +87,7 @@ TEST(Lights, QuadLightOffCentre) {
   double L = 4.0;
   expect_radiance(scene_with(R"({ "type": "quad", "corner": [0.2, 0.7, -0.3], "edge_u": [1, 0, 0],
                                   "edge_v": [0, 0, 0.5], "intensity": 4 })"),
-                  polygon_irradiance(v, L) / kPi, "quad (off centre)");
+                  aw_test::polygon_irradiance(v, L) / kPi, "quad (off centre)");
 }
 
 TEST(Lights, OneSidedQuadFacingAwayGivesNothingTwoSidedGivesAll) {
@@ -110,7 +98,7 @@ TEST(Lights, OneSidedQuadFacingAwayGivesNothingTwoSidedGivesAll) {
   aw::Scene s = aw::load_scene(scene_with(away + "}"));
   aw::RenderOptions o;
   EXPECT_EQ(mean_radiance(aw::render_wavefront(s, o)), 0.0);
-  expect_radiance(scene_with(away + R"(, "two_sided": true })"), polygon_irradiance(v, 4.0) / kPi,
+  expect_radiance(scene_with(away + R"(, "two_sided": true })"), aw_test::polygon_irradiance(v, 4.0) / kPi,
                   "quad two-sided, facing away");
 }
 

@@ -99,21 +99,11 @@ TEST(ManyLights, TreeWithFewLightsAndASun) {
   expect_radiance(path, {}, e / kPi, "3 lights and a sun by power");
 }
 
-// Lambert's formula for a polygon seen from the origin with normal +y (Arvo 1995, Sec. 3).
-double polygon_irradiance(const std::vector<glm::dvec3>& v, double radiance) {
-  double sum = 0.0;
-  for (size_t i = 0; i < v.size(); ++i) {
-    glm::dvec3 a = glm::normalize(v[i]), b = glm::normalize(v[(i + 1) % v.size()]);
-    sum += std::acos(glm::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::normalize(glm::cross(a, b)).y;
-  }
-  return std::fabs(sum) * radiance / 2.0;
-}
-
 TEST(ManyLights, LightSampledMeshQuadMatchesLambertsFormula) {
   const std::string quad = R"(, { "shape": "quad", "corner": [0.2, 0.7, -0.3], "edge_u": [1, 0, 0], "edge_v": [0, 0, 0.5],
                                   "material": "lamp", "light_sampling": true })";
   const std::vector<glm::dvec3> v = {{0.2, 0.7, -0.3}, {1.2, 0.7, -0.3}, {1.2, 0.7, 0.2}, {0.2, 0.7, 0.2}};
-  const double expected = polygon_irradiance(v, 3.0) / kPi;
+  const double expected = aw_test::polygon_irradiance(v, 3.0) / kPi;
   const std::string path = floor_with("", quad, "");
   aw::PackedScene p = aw::pack_scene(aw::load_scene(path), nullptr);
   EXPECT_EQ(p.lights.size(), 2u);  // its two triangles
