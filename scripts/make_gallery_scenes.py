@@ -6,7 +6,11 @@ that the pictures in docs/gallery.md differ only in what the example is about. R
 changing the stage; the JSON files are committed so they can be rendered without Python.
 """
 import json
+import math
 import os
+import random
+import struct
+import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 OUT = os.path.join(HERE, "..", "scenes", "docs")
@@ -319,8 +323,129 @@ EXAMPLES["sun_window_interior"] = daylight(
     sun={"type": "sun", "direction": [-0.7, -0.45, 0.25], "angle": 0.53, "intensity": 100000}, spp=256)
 EXAMPLES["sun_window_interior"]["camera"]["exposure"] = INTERIOR_EXPOSURE
 
+# A glTF interior (scripts/make_gltf_interior.py writes it: a node hierarchy, instanced chairs,
+# textured tiles, glass, a clear-coated table, an emissive lamp) in the morning sun through its
+# window; every material comes from the file (docs/gltf.md).
+EXAMPLES["gltf_interior"] = daylight(
+    {}, [{"shape": "mesh", "file": "../meshes/interior.gltf"}],
+    {"position": [-1.9, 1.45, -0.25], "look_at": [0.5, 0.85, -2.6], "up": [0, 1, 0], "fov": 58},
+    sun={"type": "sun", "direction": [0.35, -0.45, 1], "angle": 0.53, "intensity": 100000}, spp=256)
+EXAMPLES["gltf_interior"]["camera"]["exposure"] = INTERIOR_EXPOSURE
+
+
+# ---- textures (issue 14): made here, procedurally, as small PNGs ---------------------------
+TEXTURES = os.path.join(OUT, "textures")
+
+
+def write_png(path, width, height, channels, pixel):
+    """8-bit PNG (grey, grey+alpha, RGB or RGBA); pixel(x, y) gives channel values in 0..1."""
+    rows = bytearray()
+    for y in range(height):
+        rows.append(0)  # filter: none
+        for x in range(width):
+            for v in pixel(x, y):
+                rows.append(max(0, min(255, int(round(v * 255)))))
+    colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[channels]
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff)
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, colour_type, 0, 0, 0))
+    png += chunk(b"IDAT", zlib.compress(bytes(rows), 9)) + chunk(b"IEND", b"")
+    with open(path, "wb") as f:
+        f.write(png)
+
+
+def pounded_texture(path, size=256, cells=90, seed=7):
+    """Hammered metal: Voronoi cells (one dent each, tiling), each a random anisotropy rotation."""
+    rnd = random.Random(seed)
+    pts = [(rnd.random(), rnd.random(), rnd.random()) for _ in range(cells)]
+
+    def pixel(x, y):
+        u, v = (x + 0.5) / size, (y + 0.5) / size
+        best, val = 9.0, 0.0
+        for px, py, r in pts:
+            dx = min(abs(u - px), 1 - abs(u - px))
+            dy = min(abs(v - py), 1 - abs(v - py))
+            d = dx * dx + dy * dy
+            if d < best:
+                best, val = d, r
+        return (val,)
+    write_png(path, size, size, 1, pixel)
+
+
+def leaf_texture(path, size=256):
+    """A leaf: green with lighter veins inside a pointed outline (alpha), transparent outside."""
+    def pixel(x, y):
+        u, v = (x + 0.5) / size, 1.0 - (y + 0.5) / size  # v up
+        t = v  # along the leaf, stem at v = 0.05, tip at 0.95
+        half = 0.42 * math.sin(math.pi * min(1.0, max(0.0, (t - 0.05) / 0.9))) ** 0.8
+        inside = abs(u - 0.5) < half and 0.05 < t < 0.95
+        stem = abs(u - 0.5) < 0.012 and t <= 0.08
+        vein = abs(u - 0.5) < 0.008 or any(abs((v - 0.1 - 0.12 * k) - 0.6 * abs(u - 0.5)) < 0.006 for k in range(7))
+        g = 0.75 if vein else 0.45 + 0.1 * math.sin(20 * u) * math.sin(17 * v)
+        a = 1.0 if (inside or stem) else 0.0
+        return (0.25 * g, g, 0.12 * g, a)
+    write_png(path, size, size, 4, pixel)
+
+
+def tiles_texture(path, size=256, tiles=2, grout=0.08):
+    """Tile heights: 1 on the tiles, falling to 0 in the grout over a rounded edge."""
+    def pixel(x, y):
+        h = 1.0
+        for c in ((x + 0.5) / size * tiles, (y + 0.5) / size * tiles):
+            f = c - math.floor(c)
+            d = min(f, 1 - f)  # distance to the nearest grout line, in tiles
+            h = min(h, 0.5 - 0.5 * math.cos(math.pi * min(1.0, d / grout)))
+        return (h,)
+    write_png(path, size, size, 1, pixel)
+
+
+# Bronze (the scene format's example): anisotropic GGX whose rotation follows the pounded
+# metal's dents.
+EXAMPLES["bronze_pounded"] = scene(
+    {"s": {"diffuse": {"color": [0.55, 0.35, 0.15]}, "metal": True,
+           "reflection": {"weight": 1, "glossiness": 0.6, "brdf": "ggx",
+                          "fresnel": {"use_ior": False, "facing": 0.8, "perpendicular": 1}},
+           "anisotropy": {"amount": -0.8, "orientation": "uv", "rotation": {"texture": "pounded"}}}},
+    [sphere("s")])
+EXAMPLES["bronze_pounded"]["textures"] = {
+    "pounded": {"file": "textures/pounded.png", "colorspace": "linear", "scale": [3, 2]}}
+
+# A leaf lit from behind: its outline a cutout (the texture's alpha), its body translucent.
+EXAMPLES["leaf_backlit"] = scene(
+    {"leaf": {"diffuse": {"color": {"texture": "leaf"}, "weight": 0.3},
+              "translucency": {"enable": True, "color": {"texture": "leaf"}, "weight": 1},
+              "refraction": {"weight": 0.7, "thin_walled": True},
+              "reflection": {"weight": 0.2, "glossiness": 0.5},
+              "cutout_opacity": {"texture": "leaf", "channel": "a"}}},
+    [{"shape": "quad", "corner": [-1.2, 0.2, 0], "edge_u": [2.4, 0, 0], "edge_v": [0, 2.4, 0.4], "material": "leaf"}],
+    lights=[{"type": "sun", "direction": [0.25, -0.35, 1], "angle": 2, "color": [1, 0.95, 0.85], "intensity": 6}],
+    env=0.15)
+EXAMPLES["leaf_backlit"]["textures"] = {"leaf": {"file": "textures/leaf.png"}}
+# No backdrop: the low sun behind the leaf would be behind the stage's wall.
+EXAMPLES["leaf_backlit"]["objects"] = [STAGE_OBJECTS[0]] + EXAMPLES["leaf_backlit"]["objects"][2:]
+
+# A glossy tiled floor with bump: every lobe bumped, then the reflection without bump (the
+# grout shows in the diffuse shading only, the reflection stays a clean mirror image).
+for name, disable in (("floor_bump", False), ("floor_bump_smooth_reflection", True)):
+    EXAMPLES[name] = scene(
+        {"tiles": {"diffuse": {"color": [0.22, 0.2, 0.18]},
+                   "reflection": {"weight": 1, "glossiness": 0.97, "disable_bump": disable},
+                   "bump": {"input": "tiles", "scale": 0.03}},
+         "red": {"diffuse": {"color": [0.6, 0.08, 0.05]}, "reflection": {"weight": 0.6, "glossiness": 0.9}}},
+        [{"shape": "quad", "corner": [-3, 0.001, 3], "edge_u": [6, 0, 0], "edge_v": [0, 0, -6], "material": "tiles"},
+         sphere("red", r=0.8)],
+        camera={"position": [0, 1.1, 6.5], "look_at": [0, 0.5, 0], "up": [0, 1, 0], "fov": 34})
+    EXAMPLES[name]["textures"] = {"tiles": {"file": "textures/tiles.png", "colorspace": "linear", "scale": [4, 4]}}
+
 
 def main():
+    import make_gltf_interior  # imports this module for write_png: loaded lazily
+    make_gltf_interior.main()
+    os.makedirs(TEXTURES, exist_ok=True)
+    pounded_texture(os.path.join(TEXTURES, "pounded.png"))
+    leaf_texture(os.path.join(TEXTURES, "leaf.png"))
+    tiles_texture(os.path.join(TEXTURES, "tiles.png"))
     os.makedirs(MESHES, exist_ok=True)
     write_lathe_obj(os.path.join(MESHES, "cup.obj"), CUP_PROFILE)
     ring, ring_n = ring_profile(0.6, 0.12)

@@ -8,7 +8,7 @@ packages=(
   cmake g++ make pkg-config python3
   pocl-opencl-icd ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers clinfo
   libembree-dev libopenexr-dev libglm-dev libpng-dev
-  nlohmann-json3-dev libtinyobjloader-dev libcli11-dev libgtest-dev libbenchmark-dev
+  nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libstb-dev libcli11-dev libgtest-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-venv
 )
 missing=()

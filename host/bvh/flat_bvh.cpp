@@ -239,7 +239,22 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
   return out;
 }
 
-EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup) {
+namespace {
+// Embree's filter callback (Embree 3, rtcSetGeometryIntersectFilterFunction): a candidate hit
+// in a cutout hole is rejected (valid = 0), and the traversal goes on as if the triangle were
+// not there.
+void cutout_filter(const RTCFilterFunctionNArguments* args) {
+  const TextureScene* ts = static_cast<const TextureScene*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    if (!material_opaque_at(*ts, prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
+      args->valid[i] = 0;
+  }
+}
+}  // namespace
+
+EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup, const TextureScene* cutouts) {
   scene_ = rtcNewScene(device.get());
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -259,6 +274,12 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup) {
       idx[3 * i + 0] = soup.indices[i].x;
       idx[3 * i + 1] = soup.indices[i].y;
       idx[3 * i + 2] = soup.indices[i].z;
+    }
+    if (cutouts) {
+      cutouts_ = *cutouts;
+      rtcSetGeometryUserData(geom, &cutouts_);
+      rtcSetGeometryIntersectFilterFunction(geom, cutout_filter);
+      rtcSetGeometryOccludedFilterFunction(geom, cutout_filter);
     }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scene_, geom);

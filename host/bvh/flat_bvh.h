@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "kernels/types/bvh.h"
+#include "kernels/texture/material_textures.h"
 
 namespace aw {
 
@@ -48,7 +49,11 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup);
 // Embree's own scene over the same triangles (robust mode: watertight like our kernels).
 class EmbreeScene {
  public:
-  EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup);
+  // With `cutouts`, Embree's filter functions drop hits in cutout holes (opacity below 0.5,
+  // kernels/texture/material_textures.h, material_opaque_at: the same test the device's
+  // traversal makes) for closest-hit and occlusion queries alike. The pointed-to arrays must
+  // outlive the scene.
+  EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup, const TextureScene* cutouts = nullptr);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -64,6 +69,7 @@ class EmbreeScene {
 
  private:
   RTCScene scene_ = nullptr;
+  TextureScene cutouts_{};
 };
 
 }  // namespace aw

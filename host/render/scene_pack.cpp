@@ -8,6 +8,7 @@
 #include "host/render/alias_table.h"
 #include "host/render/environment_pack.h"
 #include "host/render/light_tree.h"
+#include "host/render/texture_pack.h"
 #include "host/scene/sky.h"
 #include "host/scene/tangents.h"
 #include "kernels/common/rng.h"
@@ -185,11 +186,8 @@ MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, float
     g.ao_add_scale = ao.exposure_compensation && exposure_k > 0.0f ? 1.0f / exposure_k : 1.0f;
   }
 
-  // What the kernels do not render yet is said, never silently dropped.
-  auto note = [&](const std::string& what) {
-    if (warnings) warnings->push_back("material '" + name + "': " + what);
-  };
-  if (!d.bump.input.empty()) note("bump is not rendered yet (textures come later)");
+  g.cutout_binding = AW_NONE;
+  g.bump_binding = AW_NONE;
   return g;
 }
 
@@ -239,6 +237,12 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
     const std::string& name = i < scene.material_names.size() ? scene.material_names[i] : std::to_string(i);
     ps.materials.push_back(
         pack_material(scene.materials[i], scene.render, exposure_scale(scene.camera.exposure), name, warnings));
+    pack_material_textures(scene, scene.materials[i], &ps.materials.back(), &ps.tex_bindings);
+  }
+  if (!ps.tex_bindings.empty()) {
+    PackedTextures pt = pack_textures(scene);
+    ps.textures = std::move(pt.textures);
+    ps.texels = std::move(pt.texels);
   }
 
   // Lights, with selection probabilities proportional to emitted power. Lights at infinity

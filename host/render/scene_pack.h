@@ -26,6 +26,10 @@ struct PackedScene {
   float tree_prob = 0.0f;                 // with a tree: the probability of choosing among its lights
   std::vector<uint32_t> tri_light;        // per triangle its mesh light or AW_NONE; empty without mesh lights
   int env_width = 0, env_height = 0;
+  // Textures (kernels/texture/texture.h; host/render/texture_pack.h): empty without them.
+  std::vector<TextureGpu> textures;
+  std::vector<TexBindingGpu> tex_bindings;
+  std::vector<uint8_t> texels;
   RenderParams params{};  // camera, environment, settings; pool and batch fields left 0
   FeatureSet features;    // what the scene uses (decide_features), decided once here
 };
@@ -40,7 +44,8 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings);
 inline size_t packed_arrays_bytes(const PackedScene& p) {
   return p.tri_info.size() * sizeof(TriangleInfo) + p.verts.size() * sizeof(VertexData) +
          p.materials.size() * sizeof(MaterialGpu) + p.lights.size() * sizeof(LightGpu) + p.env.size() * sizeof(float) +
-         p.light_tree.size() * sizeof(LightTreeNode) + p.tri_light.size() * sizeof(uint32_t);
+         p.light_tree.size() * sizeof(LightTreeNode) + p.tri_light.size() * sizeof(uint32_t) +
+         p.textures.size() * sizeof(TextureGpu) + p.tex_bindings.size() * sizeof(TexBindingGpu) + p.texels.size();
 }
 
 }  // namespace aw

@@ -216,6 +216,17 @@ class Wavefront {
     b.light_tree = packed_.light_tree.empty() ? rt_.buffer("light tree", sizeof(LightTreeNode))
                                               : upload(rt_, "light tree", packed_.light_tree);
     b.tri_light = packed_.tri_light.empty() ? rt_.buffer("triangle lights", 4) : upload(rt_, "triangle lights", packed_.tri_light);
+    // Textures (kernels/texture/texture.h) and, per path slot, the hit's material with its
+    // textures applied: only for scenes with textures.
+    const bool textured = !packed_.tex_bindings.empty();
+    b.textures = packed_.textures.empty() ? rt_.buffer("textures", sizeof(TextureGpu))
+                                          : upload(rt_, "textures", packed_.textures);
+    b.tex_bindings = textured ? upload(rt_, "texture bindings", packed_.tex_bindings)
+                              : rt_.buffer("texture bindings", sizeof(TexBindingGpu));
+    b.texels = packed_.texels.empty() ? rt_.buffer("texels", 4) : upload(rt_, "texels", packed_.texels);
+    b.mat_resolved = rt_.buffer("textured materials (per path)", textured ? size_t(pool_) * sizeof(MaterialGpu) : sizeof(MaterialGpu),
+                                CL_MEM_READ_WRITE);
+    if (textured) st_.state_bytes += size_t(pool_) * sizeof(MaterialGpu);
     st_.triangles = packed_.soup.indices.size();
     st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
                       packed_arrays_bytes(packed_);
@@ -243,12 +254,11 @@ class Wavefront {
     regen_ = add("regenerate", AW_Q_FREE, false, true, true);
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
     classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
-    pass_ = add("pass_through", AW_Q_PASS, false, true, true);
     ao_ = add("ambient_occlusion", AW_Q_AO, true, true, features_.on[FeatureSet::AO]);
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
       shade_[l] = add(kLobeStageNames[l], AW_Q_LOBE + int(l), true, true, features_.lobe(l));
     shadow_ = add("intersect_shadow", AW_Q_SHADOW, true, false, true);
-    // regenerate takes part of the free queue, accumulate and pass_through see small queues:
+    // regenerate takes part of the free queue, accumulate sees small queues:
     // they run over their queue entries only.
     accum_ = add("accumulate", AW_Q_DONE, false, true, true);
     film_ = add("film_accumulate", -1, false, false, true);
@@ -353,9 +363,7 @@ class Wavefront {
     st_.closest_rays += n_ray;
     launch(stages_[isect_], n_ray);
     launch(stages_[classify_], n_ray);
-    cnt_[AW_Q_RAY] = 0;  // consumed; shading and pass-through refill it
-    launch(stages_[pass_], cnt_[AW_Q_PASS]);
-    cnt_[AW_Q_PASS] = 0;
+    cnt_[AW_Q_RAY] = 0;  // consumed; shading refills it
     launch(stages_[ao_], cnt_[AW_Q_AO]);  // hands its paths to the lobe queues below
     cnt_[AW_Q_AO] = 0;
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l) {
@@ -408,7 +416,7 @@ class Wavefront {
   StageBuffers buf_;
   std::vector<uint32_t> identity_;
   std::vector<Stage> stages_;
-  size_t regen_ = 0, isect_ = 0, classify_ = 0, pass_ = 0, ao_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
+  size_t regen_ = 0, isect_ = 0, classify_ = 0, ao_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
   size_t shade_[AW_LID_COUNT] = {};
   uint32_t cnt_[AW_Q_COUNT] = {};  // the host's copy of the queue counters
 };

@@ -33,12 +33,31 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   st.renderer = "scalar";
   st.device = "host (Embree rtcIntersect1)";
   PackedScene packed = pack_scene(scene, &st.warnings);
+  // The scene the stages read; the ray caster is set once Embree's scene exists.
+  SceneRef sc_shared;
+  SceneRef& sc = sc_shared;
+  sc.tri_info = packed.tri_info.data();
+  sc.verts = packed.verts.data();
+  sc.materials = packed.materials.data();
+  sc.lights = packed.lights.data();
+  sc.env = packed.env.data();
+  sc.light_tree = packed.light_tree.data();
+  sc.tri_light = packed.tri_light.data();
+  sc.textures = packed.textures.data();
+  sc.tex_bindings = packed.tex_bindings.data();
+  sc.texels = packed.texels.data();
+  sc.mat_resolved = nullptr;  // each thread's own (worker)
+
   auto t_bvh = Clock::now();
   EmbreeDevice embree;
-  EmbreeScene escene(embree, packed.soup);
+  // Cutouts are tested by Embree's filter functions with the kernels' own test (flat_bvh.h).
+  const TextureScene cut = scene_texture_ref(sc);
+  EmbreeScene escene(embree, packed.soup, packed.features.on[FeatureSet::CUTOUT] ? &cut : nullptr);
   st.bvh_seconds = since(t_bvh);
   st.triangles = packed.soup.indices.size();
   st.scene_bytes = packed_arrays_bytes(packed);  // Embree's BVH is Embree's business, not counted
+  const HostRayCaster caster{&escene};
+  sc.caster = &caster;
 
   const RenderParams base = packed.params;
   const uint32_t npix = base.width * base.height;
@@ -47,19 +66,6 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   res.height = int(base.height);
   res.sum.assign(size_t(npix) * 3, 0.0f);
   res.count.assign(npix, 0u);
-
-  const HostRayCaster caster{&escene};
-  SceneRef sc;
-  sc.tri_info = packed.tri_info.data();
-  sc.verts = packed.verts.data();
-  sc.materials = packed.materials.data();
-  sc.lights = packed.lights.data();
-  sc.env = packed.env.data();
-  sc.light_tree = packed.light_tree.data();
-  sc.tri_light = packed.tri_light.data();
-  sc.caster = &caster;
-  // Shadow rays step through cutout surfaces only when the scene has any (intersect_shadow.h).
-  sc.cutouts = packed.features.on[FeatureSet::CUTOUT] ? 1 : 0;
 
   std::atomic<uint32_t> next_row{0};
   std::atomic<uint64_t> closest{0}, shadow{0}, bad_total{0}, missing{0}, done_samples{0};
@@ -79,6 +85,9 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
     ps.slot = 0;
     RenderParams rp = base;
     rp.pool_size = 1;
+    MaterialGpu resolved;  // this thread's textured material (integrator/shading_material.h)
+    SceneRef sc = sc_shared;
+    sc.mat_resolved = &resolved;
     MegakernelCounts counts = {0, 0, 0, 0};
     for (;;) {
       if (opts.cancel && opts.cancel->load()) break;

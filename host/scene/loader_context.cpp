@@ -197,14 +197,46 @@ glm::dvec3 read_vec3(const LoadContext& ctx, const Node& n) {
   return v;
 }
 
-namespace {
 bool is_texture_reference(const Json& j) { return j.is_object() && j.contains("texture"); }
 
+namespace {
 [[noreturn]] void fail_texture(const LoadContext& ctx, const Node& n) {
-  ctx.fail(n.path, "textures are not supported yet (this value refers to texture " +
+  ctx.fail(n.path, "only material inputs take a texture (this value refers to texture " +
                        describe((*n.j)["texture"]) + ")");
 }
 }  // namespace
+
+TextureRef read_texture_ref(const LoadContext& ctx, const Node& n, bool colour) {
+  expect_object(ctx, n, {"texture", "channel", "multiplier", "offset"});
+  const Node name_node = child(n, "texture");
+  const std::string name = read_string(ctx, name_node);
+  TextureRef r;
+  const auto* textures = ctx.textures();
+  auto it = textures ? textures->find(name) : decltype(textures->end()){};
+  if (!textures || it == textures->end()) {
+    std::vector<std::string> names;
+    if (textures)
+      for (const auto& t : *textures) names.push_back(t.first);
+    const std::string hint = closest(name, names);
+    ctx.fail(name_node.path, "no texture named \"" + name + "\" in the textures section" +
+                                 (hint.empty() ? std::string() : " (did you mean \"" + hint + "\"?)"));
+  }
+  r.texture = it->second;
+  r.channel = -1;
+  const Node ch = child(n, "channel");
+  if (ch.j) {
+    std::vector<std::pair<std::string, int>> values = {{"r", 0}, {"g", 1}, {"b", 2}, {"a", 3}};
+    values.push_back(colour ? std::make_pair(std::string("rgb"), -1) : std::make_pair(std::string("luminance"), -1));
+    r.channel = read_enum<int>(ctx, ch, values);
+  }
+  const Node mul = child(n, "multiplier");
+  if (mul.j) r.multiplier = static_cast<float>(read_number(ctx, mul));
+  const Node off = child(n, "offset");
+  if (off.j) r.offset = static_cast<float>(read_number(ctx, off));
+  if (!std::isfinite(r.multiplier) || !std::isfinite(r.offset))
+    ctx.fail(n.path, "multiplier and offset must be finite numbers");
+  return r;
+}
 
 glm::dvec3 read_colour(const LoadContext& ctx, const Node& n) {
   if (is_texture_reference(*n.j)) fail_texture(ctx, n);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "host/scene/located_json.h"
+#include "host/scene/texture_desc.h"
 
 namespace aw {
 namespace scene_detail {
@@ -45,7 +46,13 @@ class LoadContext {
 
   std::vector<std::string> take_warnings() { return std::move(warnings_); }
 
+  // The "textures" section's names and indices, for {"texture": NAME} references (set once
+  // the section is read; null before).
+  void set_textures(const std::map<std::string, uint32_t>* t) { textures_ = t; }
+  const std::map<std::string, uint32_t>* textures() const { return textures_; }
+
  private:
+  const std::map<std::string, uint32_t>* textures_ = nullptr;
   std::string file_;
   const LocatedJson* doc_;
   LineMap lines_;
@@ -81,11 +88,17 @@ int64_t read_integer(const LoadContext& ctx, const Node& n);
 bool read_bool(const LoadContext& ctx, const Node& n);
 std::string read_string(const LoadContext& ctx, const Node& n);
 glm::dvec3 read_vec3(const LoadContext& ctx, const Node& n);
-// A colour: [r, g, b] or a single number for grey. {"texture": NAME} is a clear
-// "textures are not supported yet" error.
+// A colour: [r, g, b] or a single number for grey. {"texture": NAME} is an error here (only
+// material inputs take textures: read_texture_ref).
 glm::dvec3 read_colour(const LoadContext& ctx, const Node& n);
-// A scalar material input: a number; {"texture": NAME} is the same clear error.
+// A scalar: a number; {"texture": NAME} is the same error.
 double read_scalar_input(const LoadContext& ctx, const Node& n);
+// {"texture": NAME, "channel": "r"|"g"|"b"|"a"|"luminance"|"rgb", "multiplier": M, "offset": O}
+// (docs/scene-format.md#textures): NAME must be in the textures section; a colour input takes
+// "rgb" (the default) or one channel as grey, a scalar input one channel or "luminance" (the
+// default).
+bool is_texture_reference(const Json& j);
+TextureRef read_texture_ref(const LoadContext& ctx, const Node& n, bool colour);
 
 // Range-checked reads for settings where an out-of-range value is an error (not clamped).
 // `lo_open`/`hi_open` make the bound exclusive.

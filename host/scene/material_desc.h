@@ -7,6 +7,8 @@
 
 #include <glm/glm.hpp>
 
+#include "host/scene/texture_desc.h"
+
 namespace aw {
 
 enum class Brdf { Beckmann, Ggx, AshikhminShirley, AshikhminShirleyLegacy };
@@ -124,6 +126,9 @@ struct MaterialDesc {
     float scale = 1.0f;
     bool add_to_material_bump = false;
   } bump;
+  // Inputs read from textures instead of their constants, by key ("diffuse.color", ...,
+  // "bump.input"); host/scene/texture_inputs.h lists the keys that may be bound.
+  TextureBindings textures;
 };
 
 }  // namespace aw

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "host/scene/loader_parts.h"
+#include "host/scene/texture_inputs.h"
 
 namespace aw {
 namespace scene_detail {
@@ -114,19 +115,26 @@ class MaterialParser {
     if (Node g = child(n, "bump"); g.j) {
       expect_object(ctx_, g, {"input", "scale", "add_to_material_bump"});
       if (Node in = child(g, "input"); in.j && !in.j->is_null()) {
-        // A bump input is always a texture (by name or {"texture": NAME}); "" means none.
+        // A bump input is always a texture (by name or {"texture": NAME}); "" means none. Its
+        // value (luminance, or "channel") times bump.scale is the height in scene units.
         if (!(in.j->is_string() && in.j->get<std::string>().empty())) {
-          if (!in.j->is_string() && !(in.j->is_object() && in.j->contains("texture"))) {
-            ctx_.fail(in.path,
-                      "expected a texture name or {\"texture\": NAME}, got " + describe(*in.j));
+          if (in.j->is_string()) {
+            Json ref = Json::object();
+            ref["texture"] = in.j->get<std::string>();
+            m.textures["bump.input"] = read_texture_ref(ctx_, Node{&ref, in.path}, false);
+          } else if (is_texture_reference(*in.j)) {
+            m.textures["bump.input"] = read_texture_ref(ctx_, in, false);
+          } else {
+            ctx_.fail(in.path, "expected a texture name or {\"texture\": NAME}, got " + describe(*in.j));
           }
-          ctx_.fail(in.path, "textures are not supported yet (bump.input needs a texture)");
+          m.bump.input = "texture";
         }
       }
       // Negative scales invert the bump; any finite value is meaningful.
       scalar(g, "scale", -kInf, kInf, &m.bump.scale);
       boolean(g, "add_to_material_bump", &m.bump.add_to_material_bump);
     }
+    for (auto& [key, ref] : textures_) m.textures[key] = ref;
     return m;
   }
 
@@ -227,9 +235,22 @@ class MaterialParser {
                           " is not " + range_text(lo, hi) + "; clamped to " + clamped);
   }
 
+  // {"texture": ...} in place of a value: recorded in the material's bindings (a key that no
+  // texture can drive is an error). Returns whether it was one.
+  bool texture(const Node& n, bool is_colour) {
+    if (!is_texture_reference(*n.j)) return false;
+    const std::string key = material_key(n.path);
+    if (!find_texture_input(key))
+      ctx_.fail(n.path, "material \"" + name_ + "\": " + key +
+                            " cannot be read from a texture (docs/scene-format.md#textures lists the inputs that can)");
+    textures_[key] = read_texture_ref(ctx_, n, is_colour);
+    return true;
+  }
+
   void scalar(const Node& parent, const char* key, double lo, double hi, float* out) {
     Node n = child(parent, key);
     if (!n.j) return;
+    if (texture(n, false)) return;
     const double v = read_scalar_input(ctx_, n);
     const double c = std::min(std::max(v, lo), hi);
     if (c != v) warn_clamped(n, describe(*n.j), lo, hi, format_number(c));
@@ -239,6 +260,7 @@ class MaterialParser {
   void colour(const Node& parent, const char* key, double lo, double hi, glm::vec3* out) {
     Node n = child(parent, key);
     if (!n.j) return;
+    if (texture(n, true)) return;
     const glm::dvec3 v = read_colour(ctx_, n);
     const glm::dvec3 c = glm::min(glm::max(v, glm::dvec3(lo)), glm::dvec3(hi));
     if (c != v) {
@@ -272,6 +294,7 @@ class MaterialParser {
 
   LoadContext& ctx_;
   std::string name_;
+  TextureBindings textures_;  // collected by scalar/colour, handed to the material at the end
 };
 
 }  // namespace

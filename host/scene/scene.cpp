@@ -14,7 +14,10 @@
 #include <sstream>
 
 #include "host/film/image_io.h"
+#include "host/scene/gltf_mesh.h"
 #include "host/scene/loader_parts.h"
+#include "kernels/common/compat.h"
+#include "kernels/types/material.h"
 
 namespace aw {
 namespace scene_detail {
@@ -39,6 +42,13 @@ glm::vec3 read_colour_nonnegative(const LoadContext& ctx, const Node& n) {
 }
 
 glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
+
+std::string mib(uint64_t bytes) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
+  return buf;
+}
+
 
 // ---- render ----------------------------------------------------------------------------------
 
@@ -248,6 +258,78 @@ void parse_environment(LoadContext& ctx, const Node& n, EnvironmentDesc* env) {
   }
 }
 
+// ---- textures --------------------------------------------------------------------------------
+
+// A [u, v] pair, or one number for both.
+glm::vec2 read_uv_pair(const LoadContext& ctx, const Node& n) {
+  if (n.j->is_number()) return glm::vec2(float(read_number(ctx, n)));
+  if (!n.j->is_array() || n.j->size() != 2) ctx.fail(n.path, "expected [u, v] or one number, got " + describe(*n.j));
+  return glm::vec2(float(read_number(ctx, element(n, 0))), float(read_number(ctx, element(n, 1))));
+}
+
+// One entry of "textures" (docs/scene-format.md#textures). Image files are read here, with
+// their size checked against the memory limit before they are decoded.
+TextureDesc parse_texture(LoadContext& ctx, const Node& n, const std::string& name, const LoadLimits& limits) {
+  TextureDesc t;
+  t.name = name;
+  expect_object_any_keys(ctx, n);
+  if_present(n, "type", [&](const Node& c) {
+    t.type = read_enum<TextureDesc::Type>(
+        ctx, c, {{"image", TextureDesc::Type::Image}, {"checker", TextureDesc::Type::Checker}, {"noise", TextureDesc::Type::Noise}});
+  });
+  const std::vector<std::string> placement = {"type", "scale", "offset", "rotation"};
+  auto keys = [&](std::initializer_list<const char*> extra) {
+    std::vector<std::string> all = placement;
+    for (const char* k : extra) all.push_back(k);
+    return all;
+  };
+  switch (t.type) {
+    case TextureDesc::Type::Image: expect_object(ctx, n, keys({"file", "colorspace", "wrap"})); break;
+    case TextureDesc::Type::Checker: expect_object(ctx, n, keys({"color1", "color2"})); break;
+    case TextureDesc::Type::Noise: expect_object(ctx, n, keys({"color1", "color2", "octaves"})); break;
+  }
+  if_present(n, "scale", [&](const Node& c) {
+    t.scale = read_uv_pair(ctx, c);
+    if (!(std::isfinite(t.scale.x) && std::isfinite(t.scale.y)) || t.scale.x == 0.0f || t.scale.y == 0.0f)
+      ctx.fail(c.path, "texture \"" + name + "\": scale must be finite and non-zero, got " + describe(*c.j));
+  });
+  if_present(n, "offset", [&](const Node& c) { t.offset = read_uv_pair(ctx, c); });
+  if_present(n, "rotation", [&](const Node& c) { t.rotation = float(read_number(ctx, c)); });
+  if_present(n, "color1", [&](const Node& c) { t.color1 = read_colour_nonnegative(ctx, c); });
+  if_present(n, "color2", [&](const Node& c) { t.color2 = read_colour_nonnegative(ctx, c); });
+  if_present(n, "octaves", [&](const Node& c) { t.octaves = read_int_in(ctx, c, 1, 16); });
+  if_present(n, "wrap", [&](const Node& c) {
+    t.wrap = read_enum<TextureDesc::Wrap>(ctx, c,
+                                          {{"repeat", TextureDesc::Wrap::Repeat},
+                                           {"clamp", TextureDesc::Wrap::Clamp},
+                                           {"mirror", TextureDesc::Wrap::Mirror},
+                                           {"black", TextureDesc::Wrap::Black}});
+  });
+  if (t.type != TextureDesc::Type::Image) return t;
+
+  const Node file_node = require(ctx, n, "file");
+  const std::string file = read_string(ctx, file_node);
+  if (file.empty()) ctx.fail(file_node.path, "must not be empty");
+  t.source = resolve_relative(ctx.file(), file);
+  std::string ext = std::filesystem::path(file).extension().string();
+  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  // Colour space: as given, else by the file's kind (8-bit formats hold sRGB colour, EXR linear).
+  t.colorspace = ext == ".exr" ? TextureDesc::ColorSpace::Linear : TextureDesc::ColorSpace::Srgb;
+  if_present(n, "colorspace", [&](const Node& c) {
+    t.colorspace = read_enum<TextureDesc::ColorSpace>(
+        ctx, c, {{"srgb", TextureDesc::ColorSpace::Srgb}, {"linear", TextureDesc::ColorSpace::Linear}});
+  });
+  std::error_code ec;
+  const uintmax_t file_bytes = std::filesystem::file_size(t.source, ec);
+  if (!ec && limits.max_bytes > 0 && file_bytes > limits.max_bytes)
+    ctx.fail(file_node.path, "texture \"" + name + "\": \"" + t.source + "\" is " + mib(file_bytes) +
+                                 ", more than the " + mib(limits.max_bytes) + " allowed (" + limits.source + ")");
+  std::string error;
+  if (!load_texture_file(t.source, &t, &error))
+    ctx.fail(file_node.path, "texture \"" + name + "\": cannot load \"" + t.source + "\": " + error);
+  return t;
+}
+
 // ---- lights ----------------------------------------------------------------------------------
 
 // Returns false for a degenerate area light (a quad whose edges span no area, a disk or sphere
@@ -392,9 +474,48 @@ glm::dmat4 parse_transform(const LoadContext& ctx, const Node& n) {
   return m;
 }
 
-TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
-                          const std::map<std::string, uint32_t>& material_index,
-                          const std::vector<std::string>& material_names) {
+// The materials a glTF file brought, per file as resolved: the scene's index of each of the
+// file's materials, then of its default material (for primitives that name none), so a file
+// referenced by several objects adds its materials once.
+using GltfMaterials = std::map<std::string, std::vector<uint32_t>>;
+
+// Adds a glTF file's materials and textures to the scene (names "FILE#material"); returns the
+// scene's material index of each, the default material last.
+std::vector<uint32_t> add_gltf_materials(LoadContext& ctx, const Node& file_node, const std::string& file,
+                                         GltfImport& g, std::map<std::string, uint32_t>& material_index, Scene& scene) {
+  const uint32_t texture_base = uint32_t(scene.textures.size());
+  for (TextureDesc& t : g.textures) {
+    t.name = file + "#" + t.name;
+    scene.textures.push_back(std::move(t));
+  }
+  std::vector<uint32_t> ids;
+  auto add = [&](std::string name, MaterialDesc m) {
+    // A name already taken (two glTF materials of one name, or the scene's own) gets a suffix.
+    for (int k = 2; material_index.count(name); ++k) name = name.substr(0, name.rfind(" (")) + " (" + std::to_string(k) + ")";
+    material_index[name] = uint32_t(scene.materials.size());
+    ids.push_back(uint32_t(scene.materials.size()));
+    scene.material_names.push_back(name);
+    scene.materials.push_back(std::move(m));
+  };
+  for (size_t i = 0; i < g.materials.size(); ++i) {
+    MaterialDesc m = g.materials[i];
+    for (auto& [key, ref] : g.bindings[i]) {
+      TextureRef r = ref;
+      r.texture += texture_base;
+      m.textures[key] = r;
+    }
+    add(file + "#" + g.material_names[i], std::move(m));
+  }
+  add(file + "#default", MaterialDesc{});
+  (void)ctx;
+  (void)file_node;
+  return ids;
+}
+
+std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t index,
+                                       std::map<std::string, uint32_t>& material_index, Scene& scene,
+                                       GltfMaterials& gltf_materials) {
+  const std::vector<std::string>& material_names = scene.material_names;
   expect_object_any_keys(ctx, n);
   const Node shape_node = require(ctx, n, "shape");
   enum class Shape { Mesh, Sphere, Quad, Disk, Box };
@@ -414,6 +535,8 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
   std::string name = "objects[" + std::to_string(index) + "] (" + shape_name;
 
   DMesh mesh;
+  GltfImport gltf;          // a glTF mesh: its primitives instead of `mesh`
+  std::string gltf_file;    // as resolved
   // Where geometry problems are reported: the "file" key for meshes (the data came from
   // there), the object itself for built-in shapes.
   std::string geometry_path = n.path;
@@ -428,11 +551,16 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
       const std::string resolved = resolve_relative(ctx.file(), file);
       std::string ext = std::filesystem::path(file).extension().string();
       for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-      if (ext == ".gltf" || ext == ".glb") {
-        ctx.fail(file_node.path,
-                 "glTF meshes are not supported yet (only OBJ): \"" + resolved + "\"");
-      }
       std::string error;
+      if (ext == ".gltf" || ext == ".glb") {
+        std::vector<std::string> gltf_warnings;
+        if (!load_gltf(resolved, &gltf, &error, &gltf_warnings))
+          ctx.fail(file_node.path, "cannot load glTF \"" + resolved + "\": " + error);
+        for (const std::string& w : gltf_warnings) ctx.warn(file_node.path, "glTF \"" + resolved + "\": " + w);
+        if (gltf.primitives.empty()) ctx.fail(file_node.path, "glTF \"" + resolved + "\" has no triangles");
+        gltf_file = resolved;
+        break;
+      }
       std::vector<std::string> obj_warnings;
       if (!load_obj(resolved, &mesh, &error, &obj_warnings)) {
         ctx.fail(file_node.path, "cannot load mesh \"" + resolved + "\": " + error);
@@ -509,6 +637,47 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
   }
   name += ")";
 
+  glm::dmat4 transform(1.0);
+  if_present(n, "transform", [&](const Node& c) { transform = parse_transform(ctx, c); });
+  bool light_sampling = false;
+  if_present(n, "light_sampling", [&](const Node& c) { light_sampling = read_bool(ctx, c); });
+
+  // A glTF file: one mesh per primitive, with the file's materials unless "material" names
+  // one for all of them (docs/gltf.md).
+  if (!gltf_file.empty()) {
+    std::vector<uint32_t> ids;
+    uint32_t forced = AW_NONE;
+    if (has(n, "material")) {
+      const Node mat_node = child(n, "material");
+      const std::string material = read_string(ctx, mat_node);
+      const auto found = material_index.find(material);
+      if (found == material_index.end()) {
+        const std::string hint = closest(material, material_names);
+        ctx.fail(mat_node.path, name + " uses unknown material \"" + material + "\"" +
+                                    (hint.empty() ? std::string() : " (did you mean \"" + hint + "\"?)"));
+      }
+      forced = found->second;
+    } else {
+      auto it = gltf_materials.find(gltf_file);
+      if (it == gltf_materials.end())
+        it = gltf_materials.emplace(gltf_file, add_gltf_materials(ctx, n, gltf_file, gltf, material_index, scene)).first;
+      ids = it->second;
+    }
+    std::vector<TriangleMesh> meshes;
+    for (GltfPrimitive& prim : gltf.primitives) {
+      TriangleMesh out;
+      if (!finalize_mesh(prim.mesh, transform, &out))
+        ctx.fail(geometry_path, name + ", " + prim.name + ": a vertex coordinate or normal is NaN or infinite after the transform");
+      out.material = forced != AW_NONE ? forced
+                     : prim.material >= 0 && size_t(prim.material) + 1 < ids.size() ? ids[size_t(prim.material)]
+                                                                                     : ids.back();
+      out.name = name + ", " + prim.name;
+      out.light_sampling = light_sampling;
+      meshes.push_back(std::move(out));
+    }
+    return meshes;
+  }
+
   // The material is checked after the shape so that the message can name the object fully.
   const Node mat_node = require(ctx, n, "material");
   const std::string material = read_string(ctx, mat_node);
@@ -530,17 +699,14 @@ TriangleMesh parse_object(LoadContext& ctx, const Node& n, size_t index,
     ctx.fail(mat_node.path, message);
   }
 
-  glm::dmat4 transform(1.0);
-  if_present(n, "transform", [&](const Node& c) { transform = parse_transform(ctx, c); });
-
   TriangleMesh out;
   if (!finalize_mesh(mesh, transform, &out)) {
     ctx.fail(geometry_path, name + " has a vertex coordinate or normal that is NaN or infinite");
   }
   out.material = found->second;
   out.name = name;
-  if_present(n, "light_sampling", [&](const Node& c) { out.light_sampling = read_bool(ctx, c); });
-  return out;
+  out.light_sampling = light_sampling;
+  return {std::move(out)};
 }
 
 std::string read_text_file(const std::string& path) {
@@ -575,12 +741,6 @@ uint64_t builtin_triangles(const Node& n) {
   if (shape == "box") return 12;
   if (shape == "quad") return 2;
   return 0;
-}
-
-std::string mib(uint64_t bytes) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
-  return buf;
 }
 
 // The memory check of LoadLimits: the film and path pool (`fixed`) and `triangles` (all so
@@ -634,12 +794,25 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
     ctx.fail("environment.type", "a \"sky\" environment is lit by the first sun light, and the scene has none "
                                  "(add {\"type\": \"sun\", \"direction\": [...]} to lights)");
   }
+  std::map<std::string, uint32_t> texture_index;
+  uint64_t texture_bytes = 0;  // decoded texels held on the host (4 floats each), for the memory check
   if_present(root, "textures", [&](const Node& c) {
     expect_object_any_keys(ctx, c);
-    if (!c.j->empty()) {
-      ctx.fail(join_key(c.path, c.j->begin().key()), "textures are not supported yet");
+    for (const auto& item : c.j->items()) {
+      const Node tn = child(c, item.key());
+      if (item.key().empty()) ctx.fail(tn.path, "texture names must not be empty");
+      LoadLimits left = limits;
+      if (left.max_bytes > 0) left.max_bytes = left.max_bytes > texture_bytes ? left.max_bytes - texture_bytes : 1;
+      texture_index[item.key()] = static_cast<uint32_t>(scene.textures.size());
+      scene.textures.push_back(parse_texture(ctx, tn, item.key(), left));
+      texture_bytes += uint64_t(scene.textures.back().texels.size()) * sizeof(float);
+      // Decoded, the texels (and the device's copy with its mip levels) must fit as well.
+      if (limits.max_bytes > 0 && texture_bytes * 3 / 2 > limits.max_bytes)
+        ctx.fail(tn.path, "the textures so far take " + mib(texture_bytes) + " decoded (plus their mip levels), more than the " +
+                              mib(limits.max_bytes) + " allowed (" + limits.source + "); --max-memory SIZE sets the limit");
     }
   });
+  ctx.set_textures(&texture_index);
 
   std::map<std::string, uint32_t> material_index;
   if_present(root, "materials", [&](const Node& c) {
@@ -656,20 +829,46 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
   // Film (per pixel: the device's sums and counts, the host's copy of both: 32 B) and the
   // path pool (256 Ki states of about 230 B), before any geometry.
   uint64_t triangles = 0;
-  const uint64_t fixed_bytes = uint64_t(scene.render.width) * uint64_t(scene.render.height) * 32u + (uint64_t(64) << 20);
+  uint64_t fixed_bytes = uint64_t(scene.render.width) * uint64_t(scene.render.height) * 32u + (uint64_t(64) << 20);
+  // Textures: their decoded texels (and half again for the device's packed copy with its mip
+  // levels), and with textured materials a material per path state (256 Ki states at most,
+  // kernels/integrator/shading_material.h).
+  fixed_bytes += texture_bytes * 3 / 2;
+  if (std::any_of(scene.materials.begin(), scene.materials.end(), [](const MaterialDesc& m) { return !m.textures.empty(); }))
+    fixed_bytes += uint64_t(262144) * sizeof(MaterialGpu);
   check_memory(ctx, "render", limits, fixed_bytes, 0);
+  GltfMaterials gltf_materials;
   if_present(root, "objects", [&](const Node& c) {
     expect_array(ctx, c);
     for (size_t i = 0; i < c.j->size(); ++i) {
       const Node obj = element(c, i);
       check_memory(ctx, obj.path, limits, fixed_bytes, triangles + builtin_triangles(obj));
-      scene.meshes.push_back(parse_object(ctx, obj, i, material_index, scene.material_names));
-      triangles += scene.meshes.back().indices.size();
+      const size_t first = scene.meshes.size();
+      for (TriangleMesh& m : parse_object(ctx, obj, i, material_index, scene, gltf_materials)) {
+        triangles += m.indices.size();
+        scene.meshes.push_back(std::move(m));
+      }
       check_memory(ctx, obj.path, limits, fixed_bytes, triangles);
-      const TriangleMesh& m = scene.meshes.back();
-      const MaterialDesc& md = scene.materials[m.material];
-      const glm::vec3 inc = md.incandescent.color * md.incandescent.scale;
-      if (m.light_sampling && !(inc.x > 0.0f || inc.y > 0.0f || inc.z > 0.0f))
+      // Light sampling: of the object's emitting parts (a glTF file's primitives whose material
+      // emits nothing stay plain geometry); an object with none is an error.
+      size_t emitting = 0;
+      const bool asked = scene.meshes[first].light_sampling;
+      for (size_t k = first; k < scene.meshes.size(); ++k) {
+        TriangleMesh& m = scene.meshes[k];
+        if (!m.light_sampling) continue;
+        const MaterialDesc& md = scene.materials[m.material];
+        const glm::vec3 inc = md.incandescent.color * md.incandescent.scale;
+        // Light sampling picks triangles by their (constant) power and evaluates the emission
+        // where the sample lands; a textured emission would need both to follow the texture.
+        if (md.textures.count("incandescent.color"))
+          ctx.fail(join_key(obj.path, "light_sampling"),
+                   m.name + ": light sampling of a textured incandescent colour is not supported (material \"" +
+                       scene.material_names[m.material] + "\"); remove light_sampling, and BSDF sampling finds it");
+        if (inc.x > 0.0f || inc.y > 0.0f || inc.z > 0.0f) ++emitting;
+        else if (scene.meshes.size() - first > 1) m.light_sampling = false;
+      }
+      const TriangleMesh& m = scene.meshes[first];
+      if (asked && emitting == 0)
         ctx.fail(join_key(obj.path, "light_sampling"),
                  m.name + ": light sampling needs an incandescent material, and \"" + scene.material_names[m.material] +
                      "\" emits nothing");

@@ -130,6 +130,7 @@ struct Scene {
   std::vector<LightDesc> lights;
   std::vector<std::string> material_names;  // same order as materials
   std::vector<MaterialDesc> materials;
+  std::vector<TextureDesc> textures;  // the "textures" section (and those glTF files bring)
   std::vector<TriangleMesh> meshes;
   std::vector<std::string> warnings;  // already printed once by load_scene; kept for tests
 

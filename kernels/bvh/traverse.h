@@ -6,6 +6,7 @@
 #include "common/compat.h"
 #include "types/bvh.h"
 #include "bvh/intersect_triangle.h"
+#include "texture/material_textures.h"
 
 typedef struct {
   float t;
@@ -46,9 +47,12 @@ AW_FN float4 max4_nn(float4 a, float4 b) {
 // hit. (The cheaper bound * inv - org * inv form errs relative to |org * inv| and left cracks
 // at shared vertices: tests/bvh, heightfield.) Lanes of empty slots are tested too (their
 // boxes are zeros) and masked by their child id.
-AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
-                                const AW_GLOBAL float4* tris, float3 org, float3 dir,
-                                float t_min, float t_max, int any_hit) {
+// Cutouts: with `cut` non-null, a triangle hit where the material's cutout opacity is below
+// 0.5 is not a hit (texture/material_textures.h, material_opaque_at), so every kind of ray
+// passes through the hole and the traversal goes on as if the triangle were not there.
+AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_nodes,
+                                    const AW_GLOBAL float4* tris, float3 org, float3 dir,
+                                    float t_min, float t_max, int any_hit, const TextureScene* cut) {
   TriangleHit hit;
   hit.t = t_max;
   hit.u = 0.0f;
@@ -122,6 +126,7 @@ AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
         if (intersect_triangle(org, shear, make_float3(p0.x, p0.y, p0.z),
                                make_float3(p1.x, p1.y, p1.z), make_float3(p2.x, p2.y, p2.z),
                                t_min, hit.t, &t, &u, &v)) {
+          if (cut && !material_opaque_at(*cut, as_uint(p0.w), u, v)) continue;
           hit.t = t;
           hit.u = u;
           hit.v = v;
@@ -133,6 +138,12 @@ AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes,
     if (sp == 0) return hit;
     node = stack[--sp];
   }
+}
+
+// Without cutouts (the BVH tests, the traversal benchmark, scenes without them).
+AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes, const AW_GLOBAL float4* tris,
+                                float3 org, float3 dir, float t_min, float t_max, int any_hit) {
+  return bvh_intersect_cut(nodes, num_nodes, tris, org, dir, t_min, t_max, any_hit, 0);
 }
 
 #endif

@@ -74,6 +74,8 @@ typedef glm::vec4 float4;
 typedef glm::ivec3 int3;
 typedef uint32_t uint;
 typedef uint64_t ulong;
+typedef uint8_t uchar;
+typedef uint16_t ushort;
 
 using glm::cross;
 using glm::dot;
@@ -85,6 +87,7 @@ using std::fmin;
 using std::sqrt;
 using std::exp;
 using std::log;
+using std::log2;
 using std::pow;
 using std::sin;
 using std::cos;

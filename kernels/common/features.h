@@ -33,7 +33,9 @@
   X(FRESNEL_CONDUCTOR) /* ... fresnel.medium "conductor" (with use_ior) */                     \
   X(FRESNEL_CURVE)     /* ... fresnel.use_ior false (facing/perpendicular/curve) */            \
   X(THIN_WALLED)       /* refraction.thin_walled on a material that reflects or transmits */ \
-  X(AO)                /* ambient occlusion enabled (integrator/ambient_occlusion.h) */
+  X(AO)                /* ambient occlusion enabled (integrator/ambient_occlusion.h) */          \
+  X(TEXTURE)           /* an input bound to a texture (texture/material_textures.h) */          \
+  X(BUMP)              /* a bump map (texture/material_textures.h, bump_normal) */
 
 // Scene features: light types, lobe splitting and the sampler, decided from the scene as a whole.
 // The Owen-scrambled Sobol' sampler (the default, and zsobol's continuation past its block) is

@@ -32,18 +32,20 @@
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
 #include "integrator/split.h"
+#include "integrator/shading_material.h"
 
 // Visibility in [0, 1] along one AO ray.
 AW_FN float ao_ray_visibility(SceneRef sc, const AW_GLOBAL MaterialGpu* m, float3 o, float3 w) {
   float reach = m->ao_max_distance > 0.0f ? m->ao_max_distance : FLT_MAX;
-  float t = first_opaque_hit(sc, o, w, reach);
-  if (t < 0.0f) return 1.0f;
+  TriangleHit h = scene_intersect(sc, o, w, 0.0f, reach);
+  if (h.prim < 0) return 1.0f;
+  float t = h.t;
   if (!(m->ao_max_distance > 0.0f)) return 0.0f;
   return pow(clamp(t / m->ao_max_distance, 0.0f, 1.0f), m->ao_falloff);
 }
 
 AW_FN int ambient_occlusion(PathRef ps, SceneRef sc, const RenderParams* rp) {
-  const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
+  const AW_GLOBAL MaterialGpu* m = shading_material(ps, sc);
   uint lid = PS_U(ps, lobe);
   int next = lid == AW_NONE ? AW_Q_DONE : AW_Q_LOBE + (int)lid;
   if (!(AW_FEAT_AO && m->ao_samples > 0u)) return next;

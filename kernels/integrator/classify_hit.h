@@ -14,6 +14,7 @@
 #include "common/features.h"
 #include "common/ray.h"
 #include "integrator/light_select.h"
+#include "integrator/shading_material.h"
 #include "lobes/fog.h"
 #include "material/architectural.h"
 #include "material/lobe_list.h"
@@ -124,6 +125,51 @@ AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp,
   ps_add_radiance(ps, thr * le * PS_F(ps, emit_scale));
 }
 
+// Textures (texture/texture.h): the hit's UV, and the path's ray cone carried to the hit, its
+// width there turned into a footprint in UV units, width / |cos| (the cone's section on the
+// surface) times sqrt(UV area / world area) of the triangle (Akenine-Möller et al. 2019, Ray
+// Tracing Gems ch. 20, eq. 20.2's texel-to-world ratio). Every surface hit widens the cone,
+// textured or not, so that a textured surface seen in a reflection gets the whole path's.
+AW_FN void classify_texture_point(PathRef ps, const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
+                                  const AW_GLOBAL VertexData* v2, HitPoint h, float3 dir) {
+  float w = PS_F(ps, cone_w) + PS_F(ps, cone_s) * PS_F(ps, hit_t);
+  PS_F(ps, cone_w) = w;
+  PS_F(ps, sp_tu) = h.b0 * v0->uv[0] + h.b1 * v1->uv[0] + h.b2 * v2->uv[0];
+  PS_F(ps, sp_tv) = h.b0 * v0->uv[1] + h.b1 * v1->uv[1] + h.b2 * v2->uv[1];
+  float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
+  float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
+  float uv2 = fabs(du1 * dv2 - du2 * dv1);  // twice the UV area
+  float3 c = cross(h.p1 - h.p0, h.p2 - h.p0);
+  float world2 = sqrt(dot(c, c));  // twice the world area
+  float cos_v = fmax(fabs(dot(h.ng, dir)), 1e-2f);
+  float f = world2 > 0.0f ? (w / cos_v) * sqrt(uv2 / world2) : 0.0f;
+  PS_F(ps, sp_tf) = isfinite(f) ? f : 0.0f;
+}
+
+// The bump-mapped shading normal (texture/material_textures.h, bump_normal), from the height
+// texture's central differences at the hit's UV over a step of one texel or half the
+// footprint, whichever is larger; the normal before bumping is kept for disable_bump.
+AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu* m, HitPoint h,
+                           const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
+                           const AW_GLOBAL VertexData* v2, float3 dir) {
+  PS_F(ps, sp_bx) = h.n.x; PS_F(ps, sp_by) = h.n.y; PS_F(ps, sp_bz) = h.n.z;
+  float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
+  float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
+  float det = du1 * dv2 - du2 * dv1;
+  if (!(fabs(det) > 1e-20f)) return h.n;  // no UV parametrisation: nothing to bump along
+  // dP/du and dP/dv of the triangle (Pharr, Jakob & Humphreys, pbrt-v3, Sec. 3.6.2).
+  float3 e1 = h.p1 - h.p0, e2 = h.p2 - h.p0;
+  float3 dpdu = (e1 * dv2 - e2 * dv1) / det, dpdv = (e2 * du1 - e1 * du2) / det;
+  TextureScene ts = scene_texture_ref(sc);
+  const AW_GLOBAL TexBindingGpu* b = &sc.tex_bindings[m->bump_binding];
+  float u = PS_F(ps, sp_tu), v = PS_F(ps, sp_tv), f = PS_F(ps, sp_tf);
+  float d = fmax(texture_step(&sc.textures[b->texture]), 0.5f * f);
+  float hu = m->bump_scale * (binding_eval_scalar(ts, b, u + d, v, f) - binding_eval_scalar(ts, b, u - d, v, f)) / (2.0f * d);
+  float hv = m->bump_scale * (binding_eval_scalar(ts, b, u, v + d, f) - binding_eval_scalar(ts, b, u, v - d, f)) / (2.0f * d);
+  float3 nb = bump_normal(h.n, dpdu, dpdv, hu, hv);
+  return bump_keep_reflection_above(nb, h.ng, -dir);
+}
+
 AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
                                   const AW_GLOBAL VertexData* v2, float3 dir) {
   HitPoint h;
@@ -198,6 +244,8 @@ AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const
   uint bounce = PS_U(ps, bounce);
   LobeWeights lw;
   if (AW_FEAT_REFLECTION && (m->refl[0].weight > 0.0f || m->refl[1].weight > 0.0f)) {
+    // The reflection's own normal (with bump mapping, the one its disable_bump chooses).
+    n = shading_normal_for_lobe(ps, m, AW_LID_REFLECTION);
     float3 rt, rb;
     material_reflection_frame(m, n, tangent, &rt, &rb);
     float2 u_bsdf = rng_2d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
@@ -263,13 +311,14 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
     return AW_Q_DONE;
   }
 
-  // 4. Cutout: below 0.5 opacity the surface is not there (docs/material.md §1): the SAME ray
-  // goes on beyond it (t_min = this hit; the traversal accepts t > t_min only), so a light it
-  // then finds is MIS-weighted from the true origin. Shadow rays step through cutouts too
-  // (intersect_shadow.h).
-  if (AW_FEAT_CUTOUT && m->cutout_opacity < 0.5f) {
-    PS_F(ps, ray_tmin) = PS_F(ps, hit_t);
-    return AW_Q_PASS;
+  // 4. Textures: the hit's UV and the path's footprint there, the material with its textured
+  // inputs applied (integrator/shading_material.h), the bump-mapped normal. (Cutout holes were
+  // never hit: the traversal skips them, integrator/ray_cast.h.)
+  if (AW_FEAT_TEXTURE) {
+    classify_texture_point(ps, v0, v1, v2, h, dir);
+    PS_U(ps, material) = tri->material;
+    m = shading_material(ps, sc);
+    if (AW_FEAT_BUMP && m->bump_binding != AW_NONE) h.n = classify_bump(ps, sc, m, h, v0, v1, v2, dir);
   }
 
   // 5. A path that has used up its scattering events ends here. (Its last ray was still

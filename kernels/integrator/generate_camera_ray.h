@@ -36,6 +36,11 @@ AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
   PS_F(ps, eta_scale) = 1.0f;
   PS_U(ps, depths) = 0u;
   PS_U(ps, medium) = AW_NONE;  // cameras start outside every object
+  // The ray cone of a pixel: zero width at the pinhole, the pixel's angle as its spread
+  // (Akenine-Möller et al. 2019, Ray Tracing Gems ch. 20, Sec. 20.3.4: gamma_0 from the
+  // vertical field of view and the image height).
+  PS_F(ps, cone_w) = 0.0f;
+  PS_F(ps, cone_s) = 2.0f * rp->tan_half_fov / (float)rp->height;
 }
 
 #endif

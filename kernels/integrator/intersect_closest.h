@@ -10,11 +10,10 @@
 
 AW_FN void intersect_closest(PathRef ps, SceneRef sc, const RenderParams* rp) {
   float3 o = ps_ray_origin(ps), d = ps_ray_dir(ps);
-  float tmin = PS_F(ps, ray_tmin);
-  TriangleHit h = scene_intersect(sc, o, d, tmin, FLT_MAX);
+  TriangleHit h = scene_intersect(sc, o, d, 0.0f, FLT_MAX);
   float t = h.t;
   // Camera rays see only visible lights (light.visible); every later ray sees all of them.
-  int light = scene_lights_intersect(sc, rp, o, d, tmin, &t, PS_U(ps, bounce) == 0u, -1);
+  int light = scene_lights_intersect(sc, rp, o, d, 0.0f, &t, PS_U(ps, bounce) == 0u, -1);
   if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, (uint)light);
   else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? (uint)h.prim : AW_NONE, AW_NONE);
 }

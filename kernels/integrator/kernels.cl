@@ -51,7 +51,9 @@
 
 // The path in slot `slot` and the scene, from the stage arguments.
 #define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, rp.pool_size, (slot))
-#define AW_STAGE_SCENE scene_ref_make(tri_info, verts, materials, lights, env, light_tree, tri_light, nodes, tris, rp.num_nodes)
+#define AW_STAGE_SCENE                                                                                          \
+  scene_ref_make(tri_info, verts, materials, lights, env, light_tree, tri_light, textures, tex_bindings, texels, \
+                 mat_resolved, nodes, tris, rp.num_nodes)
 #define AW_QUEUE(q) (queues + (uint)(q) * rp.pool_size)
 
 static inline PathRef path_ref_make(__global float* sf, __global uint* su, __global float* snap_f,
@@ -69,7 +71,9 @@ static inline PathRef path_ref_make(__global float* sf, __global uint* su, __glo
 static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, const __global VertexData* verts,
                                       const __global MaterialGpu* materials, const __global LightGpu* lights,
                                       const __global float* env, const __global LightTreeNode* light_tree,
-                                      const __global uint* tri_light,
+                                      const __global uint* tri_light, const __global TextureGpu* textures,
+                                      const __global TexBindingGpu* tex_bindings, const __global uchar* texels,
+                                      __global MaterialGpu* mat_resolved,
                                       const __global float4* nodes, const __global float4* tris, uint num_nodes) {
   SceneRef sc;
   sc.tri_info = tri_info;
@@ -79,10 +83,13 @@ static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, con
   sc.env = env;
   sc.light_tree = light_tree;
   sc.tri_light = tri_light;
+  sc.textures = textures;
+  sc.tex_bindings = tex_bindings;
+  sc.texels = texels;
+  sc.mat_resolved = mat_resolved;
   sc.nodes = nodes;
   sc.tris = tris;
   sc.num_nodes = num_nodes;
-  sc.cutouts = AW_FEAT_CUTOUT;  // the device build knows at compile time (scene_ref.h)
   return sc;
 }
 
@@ -156,15 +163,6 @@ AW_STAGE_KERNEL_SCALAR(kernel_classify_hit) {
   uint q = AW_Q_COUNT;
   if (AW_STAGE_SLOT(AW_Q_RAY, slot)) q = (uint)classify_hit(AW_STAGE_PATH(slot), AW_STAGE_SCENE, &rp);
   AW_APPEND(q, slot);
-}
-
-// Cutout pass-through: classify_hit consumed the RAY queue, so these wait in PASS until the
-// RAY queue can take new rays.
-AW_STAGE_KERNEL(kernel_pass_through) {
-  AW_APPEND_LOCALS;
-  uint slot = 0u;
-  int active = AW_STAGE_SLOT(AW_Q_PASS, slot);
-  AW_APPEND(active ? AW_Q_RAY : AW_Q_COUNT, slot);
 }
 
 // One shading kernel per lobe of the lobe list (material/lobe_list.h), each shade_surface with

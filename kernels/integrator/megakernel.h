@@ -18,7 +18,7 @@
 
 // What the megakernel did, for the render statistics.
 typedef struct {
-  ulong closest;  // closest-hit rays (extension rays, cutout pass-throughs included)
+  ulong closest;  // closest-hit rays (extension rays)
   ulong shadow;   // shadow rays
   ulong bad;      // discarded samples (accumulate.h)
   ulong missing;  // paths that met a feature the build lacks
@@ -36,8 +36,6 @@ AW_FN float3 megakernel_path(PathRef ps, SceneRef sc, const RenderParams* rp, ui
       intersect_closest(ps, sc, rp);
       ++c->closest;
       q = classify_hit(ps, sc, rp);
-    } else if (q == AW_Q_PASS) {
-      q = AW_Q_RAY;  // pass_through: the same ray goes on beyond the cutout
     } else if (q == AW_Q_AO) {
       q = ambient_occlusion(ps, sc, rp);
     } else if (q >= AW_Q_LOBE) {

@@ -58,7 +58,6 @@ AW_FN float3 ps_ray_dir(PathRef ps) { return make_float3(PS_F(ps, ray_dx), PS_F(
 AW_FN void ps_set_ray(PathRef ps, float3 o, float3 d) {
   PS_F(ps, ray_ox) = o.x; PS_F(ps, ray_oy) = o.y; PS_F(ps, ray_oz) = o.z;
   PS_F(ps, ray_dx) = d.x; PS_F(ps, ray_dy) = d.y; PS_F(ps, ray_dz) = d.z;
-  PS_F(ps, ray_tmin) = 0.0f;
 }
 AW_FN float3 ps_throughput(PathRef ps) { return make_float3(PS_F(ps, thr_r), PS_F(ps, thr_g), PS_F(ps, thr_b)); }
 AW_FN void ps_set_throughput(PathRef ps, float3 t) { PS_F(ps, thr_r) = t.x; PS_F(ps, thr_g) = t.y; PS_F(ps, thr_b) = t.z; }
@@ -68,6 +67,7 @@ AW_FN float3 ps_sp_position(PathRef ps) { return make_float3(PS_F(ps, sp_px), PS
 AW_FN float3 ps_sp_normal(PathRef ps) { return make_float3(PS_F(ps, sp_nx), PS_F(ps, sp_ny), PS_F(ps, sp_nz)); }
 AW_FN float3 ps_sp_tangent(PathRef ps) { return make_float3(PS_F(ps, sp_tx), PS_F(ps, sp_ty), PS_F(ps, sp_tz)); }
 AW_FN float3 ps_lobe_weight(PathRef ps) { return make_float3(PS_F(ps, lobe_wr), PS_F(ps, lobe_wg), PS_F(ps, lobe_wb)); }
+AW_FN float3 ps_sp_unbumped_normal(PathRef ps) { return make_float3(PS_F(ps, sp_bx), PS_F(ps, sp_by), PS_F(ps, sp_bz)); }
 AW_FN float3 ps_sp_geo_normal(PathRef ps) { return make_float3(PS_F(ps, sp_gx), PS_F(ps, sp_gy), PS_F(ps, sp_gz)); }
 
 // Writes the closest hit of the extension ray (both intersectors end here).

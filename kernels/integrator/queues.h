@@ -3,8 +3,7 @@
 // AW_Q_SHADOW, which only adds light and never changes where the path goes next.
 //
 //   FREE --regenerate--> RAY --intersect_closest--> (same RAY queue)
-//   RAY --classify_hit--> one lobe queue (LOBE + AW_LID_*) | AO | PASS (cutout) | DONE
-//   PASS --pass_through--> RAY
+//   RAY --classify_hit--> one lobe queue (LOBE + AW_LID_*) | AO | DONE
 //   AO --ambient_occlusion--> the lobe queue classify_hit chose | DONE
 //   LOBE + lid --shade_<lobe>--> RAY | DONE   (+ SHADOW)
 //   SHADOW --intersect_shadow--> (adds radiance)
@@ -22,7 +21,6 @@ enum {
   AW_Q_SHADOW,
   AW_Q_DONE,
   AW_Q_FREE,
-  AW_Q_PASS,  // cutout: the ray continues through the surface (pass_through -> RAY)
   AW_Q_AO,    // ambient occlusion before the lobe (ambient_occlusion.h -> LOBE + lid | DONE)
   AW_Q_LOBE,  // + AW_LID_*: one queue per lobe of the lobe list (material/lobe_list.h)
   AW_Q_COUNT = AW_Q_LOBE + AW_LID_COUNT

@@ -7,6 +7,7 @@
 #include "common/compat.h"
 #include "types/bvh.h"
 #include "types/scene.h"
+#include "texture/material_textures.h"
 
 #if !AW_DEVICE
 struct HostRayCaster;  // host/scalar/ray_cast_embree.cpp
@@ -20,6 +21,12 @@ typedef struct {
   const AW_GLOBAL float* env;  // the environment map (lights/environment.h), when the scene has one
   const AW_GLOBAL LightTreeNode* light_tree;  // many lights (lights/light_tree.h), when the scene has it
   const AW_GLOBAL uint* tri_light;  // per triangle its light or AW_NONE, when the scene has mesh lights
+  const AW_GLOBAL TextureGpu* textures;       // textures (texture/texture.h), when the scene has them
+  const AW_GLOBAL TexBindingGpu* tex_bindings;
+  const AW_GLOBAL uchar* texels;
+  // Per path slot: the material of the path's shading point with its textures applied
+  // (integrator/shading_material.h); the scalar path gives each thread its own.
+  AW_GLOBAL MaterialGpu* mat_resolved;
 #if AW_DEVICE
   const __global float4* nodes;  // the flattened BVH (kernels/types/bvh.h)
   const __global float4* tris;
@@ -27,11 +34,17 @@ typedef struct {
 #else
   const struct HostRayCaster* caster;
 #endif
-  // Whether shadow rays must step through cutout surfaces (intersect_shadow.h). A device
-  // build knows it when it is compiled (AW_FEAT_CUTOUT); the scalar path is one generic build
-  // for every scene, so it is told by the scene's features, and takes the cheaper occlusion
-  // query when there are none.
-  int cutouts;
 } SceneRef;
+
+AW_FN TextureScene scene_texture_ref(SceneRef sc) {
+  TextureScene ts;
+  ts.tri_info = sc.tri_info;
+  ts.verts = sc.verts;
+  ts.materials = sc.materials;
+  ts.textures = sc.textures;
+  ts.bindings = sc.tex_bindings;
+  ts.texels = sc.texels;
+  return ts;
+}
 
 #endif

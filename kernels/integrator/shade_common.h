@@ -66,6 +66,11 @@ AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng
   }
   ps_set_throughput(ps, thr);
   PS_F(ps, bsdf_pdf) = s.pdf;  // the lobe's own density: see the MIS note in shade_surface
+  // The ray cone widens by the lobe's angular spread, taken as 1/sqrt(pdf): the solid angle a
+  // sample of density pdf stands for (the footprint of path differentials by the sampling
+  // density: Suykens & Willems 2001, "Path Differentials and Applications", EGWR, Sec. 4);
+  // a delta lobe keeps it (a mirror's curvature is ignored). Bounded by pi/2.
+  if (!(s.flags & AW_LOBE_SPECULAR) && s.pdf > 0.0f) PS_F(ps, cone_s) += fmin(1.0f / sqrt(s.pdf), 1.5707964f);
   if (s.flags & AW_LOBE_SPECULAR) PS_U(ps, flags) |= AW_PATH_SPECULAR;
   else PS_U(ps, flags) &= ~AW_PATH_SPECULAR;
   ps_set_ray(ps, offset_ray_origin(p, transmit ? -ng : ng), wi);

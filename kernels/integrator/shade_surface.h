@@ -8,14 +8,15 @@
 
 #include "common/features.h"
 #include "integrator/shade_common.h"
+#include "integrator/shading_material.h"
 #include "integrator/split.h"
 #include "material/lobes.h"
 
 AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint lid) {
   float3 p = ps_sp_position(ps);
-  float3 n = ps_sp_normal(ps);
   float3 ng = ps_sp_geo_normal(ps);
-  const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
+  const AW_GLOBAL MaterialGpu* m = shading_material(ps, sc);
+  float3 n = shading_normal_for_lobe(ps, m, lid);
   // Per-lobe samples: split this lobe at the first scattering vertex (docs/material.md §6). The
   // snapshot is taken before this stage changes anything, so every split starts here.
   if (rp->split_spp != 0u && PS_U(ps, bounce) == 0u && !(PS_U(ps, flags) & AW_PATH_SPLIT)) {

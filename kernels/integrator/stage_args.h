@@ -32,7 +32,11 @@
   BUFFER(LightGpu, lights)                                                                  \
   BUFFER(float, env)      /* the environment map (lights/environment.h) */                 \
   BUFFER(LightTreeNode, light_tree) /* the light tree (lights/light_tree.h) */             \
-  BUFFER(uint, tri_light) /* per triangle its mesh light, or AW_NONE */
+  BUFFER(uint, tri_light) /* per triangle its mesh light, or AW_NONE */                    \
+  BUFFER(TextureGpu, textures) /* kernels/texture/texture.h */                             \
+  BUFFER(TexBindingGpu, tex_bindings) /* material inputs bound to textures */              \
+  BUFFER(uchar, texels)   /* every texture's texels, all levels */                          \
+  BUFFER(MaterialGpu, mat_resolved) /* per pool slot: the hit's material, textures applied */
 
 enum {
   AW_ARG_rp,

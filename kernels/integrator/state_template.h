@@ -8,7 +8,6 @@
 /* The ray the path will trace next (extension ray). */
 AW_STATE_F(ray_ox) AW_STATE_F(ray_oy) AW_STATE_F(ray_oz)
 AW_STATE_F(ray_dx) AW_STATE_F(ray_dy) AW_STATE_F(ray_dz)
-AW_STATE_F(ray_tmin)  /* > 0 only after passing a cutout: the same ray continues beyond it */
 /* Path throughput and the radiance gathered so far. */
 AW_STATE_F(thr_r) AW_STATE_F(thr_g) AW_STATE_F(thr_b)
 /* Product of eta^2 over the interfaces crossed: throughput x eta_scale is what Russian
@@ -27,6 +26,13 @@ AW_STATE_F(sp_nx) AW_STATE_F(sp_ny) AW_STATE_F(sp_nz)
 AW_STATE_F(sp_gx) AW_STATE_F(sp_gy) AW_STATE_F(sp_gz)
 /* Tangent (for anisotropy), orthogonal to the shading normal. */
 AW_STATE_F(sp_tx) AW_STATE_F(sp_ty) AW_STATE_F(sp_tz)
+/* Textures: the shading point's UV, the path's footprint there in UV units
+ * (texture/texture.h), and the shading normal before bump mapping (disable_bump). */
+AW_STATE_F(sp_tu) AW_STATE_F(sp_tv) AW_STATE_F(sp_tf)
+AW_STATE_F(sp_bx) AW_STATE_F(sp_by) AW_STATE_F(sp_bz)
+/* The path's ray cone (docs/architecture.md#texture-footprint): its width where the current
+ * ray starts and its spread angle (radians). */
+AW_STATE_F(cone_w) AW_STATE_F(cone_s)
 /* The chosen lobe's factor: its energy share divided by the probability of choosing it. */
 AW_STATE_F(lobe_wr) AW_STATE_F(lobe_wg) AW_STATE_F(lobe_wb)
 /* Factor on light reached through the last scattering (highlight_vs_reflection). */

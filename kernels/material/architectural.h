@@ -85,6 +85,13 @@ AW_FN float3 rotate_tangent(float3 t, float3 n, float rotation) {
 // materials, any frame around n otherwise. (The other lobes are isotropic: any frame.)
 AW_FN void material_reflection_frame(const AW_GLOBAL MaterialGpu* m, float3 n, float3 tangent, float3* t, float3* b) {
   if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f) {
+    // The tangent is orthogonal to the bumped normal; a lobe with disable_bump shades with
+    // the other one, so it is made orthogonal to n again.
+    if (AW_FEAT_BUMP && m->bump_binding != AW_NONE) {
+      float3 tp = tangent - n * dot(n, tangent);
+      float l2 = dot(tp, tp);
+      if (l2 > 1e-12f) tangent = tp / sqrt(l2);
+    }
     *t = rotate_tangent(tangent, n, m->aniso_rotation);
     *b = cross(n, *t);
   } else {
@@ -220,7 +227,9 @@ AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
   if (m->diffuse_roughness > 0.0f) f |= AW_FEATBIT_ROUGH_DIFFUSE;
   if (refl && m->aniso_amount != 0.0f) f |= AW_FEATBIT_ANISOTROPY;
   if (refr && m->fog_distance > 0.0f) f |= AW_FEATBIT_FOG;
-  if (m->cutout_opacity < 0.5f) f |= AW_FEATBIT_CUTOUT;
+  if (m->cutout_opacity < 0.5f || m->cutout_binding != AW_NONE) f |= AW_FEATBIT_CUTOUT;
+  if (m->tex_count > 0u) f |= AW_FEATBIT_TEXTURE;
+  if (m->bump_binding != AW_NONE) f |= AW_FEATBIT_BUMP | AW_FEATBIT_TEXTURE;
   if (positive3(m->incandescent)) f |= AW_FEATBIT_INCANDESCENCE;
   if ((m->flags & AW_MAT_THIN_WALLED) && (refl || transmit)) f |= AW_FEATBIT_THIN_WALLED;
   if (m->ao_samples > 0u) f |= AW_FEATBIT_AO;

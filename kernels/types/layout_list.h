@@ -42,4 +42,12 @@ AW_LAYOUT_ENTRY(38, LightTreeNode, child)
 AW_LAYOUT_ENTRY(39, LightGpu, tree_depth)
 AW_LAYOUT_ENTRY(40, RenderParams, has_mesh_lights)
 AW_LAYOUT_ENTRY(41, RenderParams, tree_prob)
-#define AW_LAYOUT_COUNT 42
+AW_LAYOUT_ENTRY(42, MaterialGpu, tex_first)
+AW_LAYOUT_ENTRY(43, MaterialGpu, no_bump_lobes)
+AW_LAYOUT_SIZE(44, TextureGpu)
+AW_LAYOUT_ENTRY(45, TextureGpu, xf)
+AW_LAYOUT_ENTRY(46, TextureGpu, color1)
+AW_LAYOUT_ENTRY(47, TextureGpu, level_offset)
+AW_LAYOUT_SIZE(48, TexBindingGpu)
+AW_LAYOUT_ENTRY(49, TexBindingGpu, hi)
+#define AW_LAYOUT_COUNT 50

@@ -73,6 +73,16 @@ typedef struct {
   uint ao_samples;
   uint ao_flags;          // AW_AO_*
   float ao_add_scale;     // add mode: 1, or 1 / the exposure scale with exposure_compensation
+  // Textures (kernels/texture/material_textures.h): the inputs bound to textures are the
+  // bindings [tex_first, tex_first + tex_count) of the scene's binding array; each writes its
+  // value over this material's constant in the material the stages read at a hit.
+  uint tex_first;
+  uint tex_count;
+  uint cutout_binding;  // the binding of cutout_opacity (read by the traversal), or AW_NONE
+  uint bump_binding;    // bump.input's binding (the height, in scene units per unit value), or AW_NONE
+  float bump_scale;     // bump.scale
+  uint no_bump_lobes;   // bit AW_LID_x set: lobe x shades with the unbumped normal (disable_bump)
+  uint tex_pad[2];
 } MaterialGpu;
 
 #endif

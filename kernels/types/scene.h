@@ -4,6 +4,7 @@
 #define AW_TYPES_SCENE_H
 
 #include "types/material.h"
+#include "types/texture.h"
 
 #define AW_LIGHT_POINT 0
 #define AW_LIGHT_QUAD 1

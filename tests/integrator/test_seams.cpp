@@ -62,14 +62,14 @@ TEST(FeatureList, OneMaskDefineAndGeneratedSwitches) {
   // The host build of the kernel headers is the generic build.
   EXPECT_EQ(int(AW_FEAT_CUTOUT), 1);
   EXPECT_EQ(AW_FEAT_COMPILED_MATERIAL_MASK, (1u << AW_FEAT_MATERIAL_COUNT) - 1u);
-  EXPECT_EQ(int(AW_FEAT_MATERIAL_COUNT), int(AW_FID_AO) + 1);  // material features first
+  EXPECT_EQ(int(AW_FEAT_MATERIAL_COUNT), int(AW_FID_BUMP) + 1);  // material features first
 }
 
 TEST(StageArgs, RenderParamsFirstThenTheList) {
   EXPECT_EQ(int(AW_ARG_rp), 0);
   EXPECT_EQ(int(AW_ARG_count), 1);
   EXPECT_GT(int(AW_ARG_lights), int(AW_ARG_sf));
-  EXPECT_EQ(int(AW_ARG_COUNT), int(AW_ARG_tri_light) + 1);
+  EXPECT_EQ(int(AW_ARG_COUNT), int(AW_ARG_mat_resolved) + 1);
 }
 
 // The host binds stage arguments by the generated AW_ARG_* indices only (stage_args.h): a

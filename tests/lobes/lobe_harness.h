@@ -57,6 +57,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <limits>
 #include <map>
@@ -1080,13 +1081,20 @@ inline cl::Program& probe_program(const std::string& file) {
 }
 }  // namespace detail
 
+// A read-only buffer a probe kernel takes after its output (bytes, size).
+struct ProbeBuffer {
+  const void* data;
+  size_t bytes;
+};
+
 // Runs `kernel` from kernels/<cl_file_rel_to_kernels> over n_items work items. The kernel has
-// the signature (uint n, __global const float* in, __global float* out) and writes
-// out[i * out_floats_per_item + k]. The output starts as NaN, so a slot the kernel does not
-// write fails any comparison. Local size 64, global size padded to a multiple of 64.
+// the signature (uint n, __global const float* in, __global float* out, then one __global
+// pointer per entry of `extra`) and writes out[i * out_floats_per_item + k]. The output starts
+// as NaN, so a slot the kernel does not write fails any comparison. Local size 64, global
+// size padded to a multiple of 64.
 inline std::vector<float> run_device_probe(const std::string& cl_file_rel_to_kernels, const char* kernel,
                                            const std::vector<float>& in, size_t out_floats_per_item,
-                                           size_t n_items) {
+                                           size_t n_items, const std::vector<ProbeBuffer>& extra = {}) {
   ClRuntime& rt = detail::probe_runtime();
   cl::Kernel k(detail::probe_program(cl_file_rel_to_kernels), kernel);
   std::vector<float> out(out_floats_per_item * n_items, std::numeric_limits<float>::quiet_NaN());
@@ -1097,6 +1105,14 @@ inline std::vector<float> run_device_probe(const std::string& cl_file_rel_to_ker
   k.setArg(0, cl_uint(n_items));
   k.setArg(1, bin);
   k.setArg(2, bout);
+  std::vector<cl::Buffer> extra_buffers;
+  for (const ProbeBuffer& e : extra) {
+    // A buffer of at least 4 bytes even for an empty array (OpenCL refuses size 0).
+    std::vector<uint8_t> bytes(std::max<size_t>(e.bytes, 4), 0);
+    if (e.bytes) std::memcpy(bytes.data(), e.data, e.bytes);
+    extra_buffers.push_back(rt.buffer("probe data", bytes.size(), CL_MEM_READ_ONLY, bytes.data()));
+    k.setArg(cl_uint(3 + extra_buffers.size() - 1), extra_buffers.back());
+  }
   const size_t local = 64;
   size_t global = (n_items + local - 1) / local * local;
   if (global == 0) global = local;

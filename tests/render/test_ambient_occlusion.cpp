@@ -155,21 +155,8 @@ namespace {
 // first hit's 256 AO samples split over the pixel's samples), per pixel: wavefront against the
 // scalar path, and the specialised build against the generic one.
 void expect_ao_scene_matches(const std::string& name) {
-  aw::Scene scene = aw::load_scene(std::string(ARCHWAVE_SOURCE_DIR) + "/scenes/docs/" + name + ".json",
-                                   {"render.width=48", "render.height=36", "render.spp=8", "environment.resolution=128"});
-  aw::RenderOptions o;
-  aw::RenderResult w = aw::render_wavefront(scene, o);
-  aw::RenderResult s = aw::render_scalar(scene, o);
-  aw::ImageDiff d = aw::compare_images(w.image(scene), s.image(scene), 1e-3, 1e-4);
-  std::printf("%s: %.4f%% of pixels within 1e-3, means %.6f vs %.6f\n", name.c_str(), d.frac_pixels_within * 100,
-              d.mean_a, d.mean_b);
-  EXPECT_GE(d.frac_pixels_within, 0.99) << name;
-  EXPECT_LE(d.rel_mean_diff, 1e-3) << name;
-  EXPECT_EQ(w.stats.bad_samples, 0u) << name;
-  aw::RenderOptions g;
-  g.generic_kernels = true;
-  aw::ImageDiff dg = aw::compare_images(w.image(scene), aw::render_wavefront(scene, g).image(scene), 1e-3, 1e-4);
-  EXPECT_GE(dg.frac_pixels_within, 0.99) << name << " (generic kernels)";
+  aw_test::expect_kernel_matches_scalar("scenes/docs/" + name + ".json",
+                                        {"render.width=48", "render.height=36", "render.spp=8", "environment.resolution=128"});
 }
 
 TEST(AmbientOcclusion, AddSceneKernelMatchesScalar) { expect_ao_scene_matches("ao_2_add"); }

@@ -202,37 +202,13 @@ TEST(InfiniteLights, BadInputNamesTheKey) {
 
 namespace {
 
-std::string source_path(const std::string& rel) { return std::string(ARCHWAVE_SOURCE_DIR) + "/" + rel; }
-
-// The gallery's daylight scenes (sun, Preetham sky, a lathed mesh, photographic exposure), per
-// pixel: the wavefront kernels against the scalar path (the same stage code over Embree's
-// rays), and the specialised kernels against the generic build.
-void expect_kernel_matches_scalar(const std::string& scene_file, const std::vector<std::string>& overrides) {
-  aw::Scene scene = aw::load_scene(source_path(scene_file), overrides);
-  aw::RenderOptions o;
-  aw::RenderResult w = aw::render_wavefront(scene, o);
-  aw::RenderResult s = aw::render_scalar(scene, o);
-  aw::ImageDiff d = aw::compare_images(w.image(scene), s.image(scene), 1e-3, 1e-4);
-  std::printf("%s: %.4f%% of pixels within 1e-3, means %.6f vs %.6f\n", scene_file.c_str(),
-              d.frac_pixels_within * 100, d.mean_a, d.mean_b);
-  EXPECT_GE(d.frac_pixels_within, 0.99) << scene_file;
-  EXPECT_LE(d.rel_mean_diff, 1e-3) << scene_file;
-  EXPECT_EQ(w.stats.bad_samples, 0u) << scene_file;
-  EXPECT_EQ(s.stats.bad_samples, 0u) << scene_file;
-  aw::RenderOptions g;
-  g.generic_kernels = true;
-  aw::RenderResult wg = aw::render_wavefront(scene, g);
-  aw::ImageDiff dg = aw::compare_images(w.image(scene), wg.image(scene), 1e-3, 1e-4);
-  EXPECT_GE(dg.frac_pixels_within, 0.99) << scene_file << " (generic kernels)";
-}
-
 TEST(InfiniteLights, SkySceneKernelMatchesScalar) {
-  expect_kernel_matches_scalar("scenes/docs/sky_fresnel_shallow.json",
+  aw_test::expect_kernel_matches_scalar("scenes/docs/sky_fresnel_shallow.json",
                                {"render.width=64", "render.height=48", "render.spp=8", "environment.resolution=256"});
 }
 
 TEST(InfiniteLights, SunThroughWindowKernelMatchesScalar) {
-  expect_kernel_matches_scalar("scenes/docs/sun_window_interior.json",
+  aw_test::expect_kernel_matches_scalar("scenes/docs/sun_window_interior.json",
                                {"render.width=64", "render.height=48", "render.spp=8", "environment.resolution=256"});
 }
 

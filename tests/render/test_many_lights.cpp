@@ -137,21 +137,7 @@ TEST(ManyLights, LightSamplingNeedsAnIncandescentMaterial) {
 }
 
 TEST(ManyLights, GallerySceneKernelMatchesScalar) {
-  aw::Scene scene = aw::load_scene(std::string(ARCHWAVE_SOURCE_DIR) + "/scenes/docs/many_lights.json",
-                                   {"render.width=48", "render.height=36", "render.spp=8"});
-  aw::RenderOptions o;
-  aw::RenderResult w = aw::render_wavefront(scene, o);
-  aw::RenderResult s = aw::render_scalar(scene, o);
-  aw::ImageDiff d = aw::compare_images(w.image(scene), s.image(scene), 1e-3, 1e-4);
-  std::printf("many_lights: %.4f%% of pixels within 1e-3, means %.6f vs %.6f\n", d.frac_pixels_within * 100, d.mean_a,
-              d.mean_b);
-  EXPECT_GE(d.frac_pixels_within, 0.99);
-  EXPECT_LE(d.rel_mean_diff, 1e-3);
-  EXPECT_EQ(w.stats.bad_samples, 0u);
-  aw::RenderOptions g;
-  g.generic_kernels = true;
-  aw::ImageDiff dg = aw::compare_images(w.image(scene), aw::render_wavefront(scene, g).image(scene), 1e-3, 1e-4);
-  EXPECT_GE(dg.frac_pixels_within, 0.99) << "generic kernels";
+  aw_test::expect_kernel_matches_scalar("scenes/docs/many_lights.json", {"render.width=48", "render.height=36", "render.spp=8"});
 }
 
 }  // namespace

@@ -48,9 +48,10 @@ const BadCase kBadCases[] = {
     {"bad_enum_brdf.json", "3:32",
      "materials.shiny.reflection.brdf: unknown value \"phong\"; expected one of: beckmann, ggx, "
      "ashikhmin_shirley, ashikhmin_shirley_legacy"},
-    {"bad_texture_ref.json", "4:39",
-     "materials.bronze.anisotropy.rotation: textures are not supported yet"},
-    {"bad_textures_section.json", "3:5", "textures.checks: textures are not supported yet"},
+    {"bad_texture_ref.json", "4:53",
+     "materials.bronze.anisotropy.rotation.texture: no texture named \"pounded\" in the textures section"},
+    {"bad_textures_section.json", "3:36",
+     "textures.checks.scale: texture \"checks\": scale must be finite and non-zero, got [8,0]"},
     {"bad_sun.json", "4:47", "lights[1].angle: must be in [0, 180], got 200"},
     {"bad_matrix_length.json", "6:9",
      "objects[0].transform.matrix: expected 16 numbers (a row-major 4x4 matrix), got 12"},

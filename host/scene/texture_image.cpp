@@ -1,0 +1,202 @@
+// Texture images: PNG and JPEG through stb_image (Debian's libstb-dev), EXR through OpenEXR,
+// decoded to linear RGBA floats (host/scene/texture_desc.h).
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#define STBI_ONLY_JPEG
+#define STBI_NO_STDIO  // files are read here, so every error path is ours
+#include <stb/stb_image.h>
+
+#include "host/scene/texture_desc.h"
+
+namespace aw {
+namespace {
+
+// The IEC 61966-2-1 (sRGB) decoding curve, exact in double.
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+// An EXR held in memory, for OpenEXR's reader (EXRs embedded in a .glb come this way too).
+class MemoryIStream : public Imf::IStream {
+ public:
+  MemoryIStream(const unsigned char* data, size_t size) : Imf::IStream("memory"), data_(data), size_(size) {}
+  bool read(char c[], int n) override {
+    if (n < 0 || pos_ + uint64_t(n) > size_) throw std::runtime_error("the EXR data is truncated");
+    std::memcpy(c, data_ + pos_, size_t(n));
+    pos_ += uint64_t(n);
+    return pos_ < size_;
+  }
+  uint64_t tellg() override { return pos_; }
+  void seekg(uint64_t pos) override { pos_ = pos; }
+
+ private:
+  const unsigned char* data_;
+  uint64_t size_;
+  uint64_t pos_ = 0;
+};
+
+// Decoded images larger than this are refused before they are decoded: 16k x 16k texels at
+// 4 floats each is 4 GiB of host memory already (the device's copy, packed, is smaller;
+// host/render/texture_pack.h).
+constexpr uint64_t kMaxTexels = uint64_t(16384) * 16384;
+
+bool check_size(int w, int h, std::string* error) {
+  if (w <= 0 || h <= 0) {
+    *error = "the image has no texels (" + std::to_string(w) + " x " + std::to_string(h) + ")";
+    return false;
+  }
+  if (uint64_t(w) * uint64_t(h) > kMaxTexels) {
+    *error = "the image is " + std::to_string(w) + " x " + std::to_string(h) +
+             " texels, more than the 16384 x 16384 a texture may have";
+    return false;
+  }
+  return true;
+}
+
+bool decode_exr(const unsigned char* bytes, size_t size, TextureDesc* t, std::string* error) {
+  try {
+    MemoryIStream stream(bytes, size);
+    Imf::InputFile in(stream, 1);
+    const Imath::Box2i dw = in.header().dataWindow();
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    if (!check_size(w, h, error)) return false;
+    const Imf::ChannelList& ch = in.header().channels();
+    const bool has_rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
+    const bool has_y = ch.findChannel("Y") != nullptr;
+    const bool has_a = ch.findChannel("A") != nullptr;
+    if (!has_rgb && !has_y) {
+      *error = "the EXR has neither R, G, B nor Y channels";
+      return false;
+    }
+    t->width = w;
+    t->height = h;
+    t->channels = (has_rgb ? 3 : 1) + (has_a ? 1 : 0);
+    t->eight_bit = false;
+    t->texels.assign(size_t(w) * size_t(h) * 4, 1.0f);
+    Imf::FrameBuffer fb;
+    float* base = t->texels.data() - (int64_t(dw.min.y) * w + dw.min.x) * 4;
+    const size_t xs = 4 * sizeof(float), ys = size_t(w) * 4 * sizeof(float);
+    if (has_rgb) {
+      fb.insert("R", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + 0), xs, ys, 1, 1, 0.0));
+      fb.insert("G", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + 1), xs, ys, 1, 1, 0.0));
+      fb.insert("B", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + 2), xs, ys, 1, 1, 0.0));
+    } else {
+      fb.insert("Y", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + 0), xs, ys, 1, 1, 0.0));
+    }
+    if (has_a) fb.insert("A", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + 3), xs, ys, 1, 1, 1.0));
+    in.setFrameBuffer(fb);
+    in.readPixels(dw.min.y, dw.max.y);
+    for (size_t i = 0; i < size_t(w) * size_t(h); ++i) {
+      float* p = &t->texels[i * 4];
+      if (!has_rgb) p[1] = p[2] = p[0];
+      for (int c = 0; c < 4; ++c) {
+        if (!std::isfinite(p[c])) {
+          *error = "texel (" + std::to_string(i % size_t(w)) + ", " + std::to_string(i / size_t(w)) +
+                   ") is not a finite number";
+          return false;
+        }
+      }
+    }
+    // EXR holds linear values; an sRGB colour space on an EXR is honoured all the same.
+    if (t->colorspace == TextureDesc::ColorSpace::Srgb) {
+      for (size_t i = 0; i < t->texels.size(); ++i)
+        if (i % 4 != 3) t->texels[i] = float(srgb_to_linear(t->texels[i]));
+    }
+    return true;
+  } catch (const std::exception& e) {
+    *error = std::string("not a readable EXR: ") + e.what();
+    return false;
+  }
+}
+
+}  // namespace
+
+bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* t, std::string* error) {
+  static const unsigned char kExrMagic[4] = {0x76, 0x2f, 0x31, 0x01};
+  if (size >= 4 && std::memcmp(bytes, kExrMagic, 4) == 0) return decode_exr(bytes, size, t, error);
+  if (size > size_t(std::numeric_limits<int>::max())) {
+    *error = "the image file is larger than 2 GiB";
+    return false;
+  }
+  int w = 0, h = 0, n = 0;
+  if (!stbi_info_from_memory(bytes, int(size), &w, &h, &n)) {
+    *error = std::string("not a PNG, JPEG or EXR image (") + stbi_failure_reason() + ")";
+    return false;
+  }
+  if (!check_size(w, h, error)) return false;
+  const bool sixteen = stbi_is_16_bit_from_memory(bytes, int(size)) != 0;
+  void* data = sixteen ? static_cast<void*>(stbi_load_16_from_memory(bytes, int(size), &w, &h, &n, 0))
+                       : static_cast<void*>(stbi_load_from_memory(bytes, int(size), &w, &h, &n, 0));
+  if (!data) {
+    *error = std::string("cannot decode the image (") + stbi_failure_reason() + ")";
+    return false;
+  }
+  t->width = w;
+  t->height = h;
+  t->channels = n;
+  t->eight_bit = !sixteen;
+  t->texels.assign(size_t(w) * size_t(h) * 4, 1.0f);
+  const bool srgb = t->colorspace == TextureDesc::ColorSpace::Srgb;
+  // 8-bit sRGB through a table of the 256 values (exact curve, rounded once to float).
+  float lut8[256];
+  for (int i = 0; i < 256; ++i) lut8[i] = float(srgb ? srgb_to_linear(i / 255.0) : i / 255.0);
+  const int colour_channels = (n == 1 || n == 2) ? 1 : 3;
+  for (size_t i = 0; i < size_t(w) * size_t(h); ++i) {
+    float v[4];
+    for (int c = 0; c < n; ++c) {
+      const bool is_alpha = (n == 2 && c == 1) || (n == 4 && c == 3);
+      if (sixteen) {
+        const double x = static_cast<const uint16_t*>(data)[i * size_t(n) + size_t(c)] / 65535.0;
+        v[c] = float(srgb && !is_alpha ? srgb_to_linear(x) : x);
+      } else {
+        const unsigned char x = static_cast<const unsigned char*>(data)[i * size_t(n) + size_t(c)];
+        v[c] = is_alpha ? x / 255.0f : lut8[x];  // alpha is always linear
+      }
+    }
+    float* p = &t->texels[i * 4];
+    if (colour_channels == 1) {
+      p[0] = p[1] = p[2] = v[0];
+      if (n == 2) p[3] = v[1];
+    } else {
+      p[0] = v[0];
+      p[1] = v[1];
+      p[2] = v[2];
+      if (n == 4) p[3] = v[3];
+    }
+  }
+  stbi_image_free(data);
+  return true;
+}
+
+bool load_texture_file(const std::string& path, TextureDesc* t, std::string* error) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    *error = "cannot open the file (" + std::string(std::strerror(errno)) + ")";
+    return false;
+  }
+  std::ostringstream ss;
+  ss << f.rdbuf();
+  if (f.bad()) {
+    *error = "cannot read the file";
+    return false;
+  }
+  const std::string bytes = ss.str();
+  if (bytes.empty()) {
+    *error = "the file is empty";
+    return false;
+  }
+  return decode_texture_image(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), t, error);
+}
+
+}  // namespace aw

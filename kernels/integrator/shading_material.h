@@ -1,0 +1,29 @@
+// The material the stages read at the path's shading point: the scene's own, or, when some of
+// its inputs are textured, a copy in the path's slot of mat_resolved with those inputs read at
+// the point's UV and footprint (the stages that read the material, classify_hit, the lobe
+// stages and ambient occlusion, each apply them again: the copy is the slot's own, and lobe
+// splitting returns a slot to its first hit after deeper hits have overwritten it).
+#ifndef AW_INTEGRATOR_SHADING_MATERIAL_H
+#define AW_INTEGRATOR_SHADING_MATERIAL_H
+
+#include "common/features.h"
+#include "integrator/path_state.h"
+#include "integrator/scene_ref.h"
+#include "texture/material_textures.h"
+
+AW_FN const AW_GLOBAL MaterialGpu* shading_material(PathRef ps, SceneRef sc) {
+  const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
+  if (!(AW_FEAT_TEXTURE && m->tex_count > 0u)) return m;
+  AW_GLOBAL MaterialGpu* r = &sc.mat_resolved[ps.slot];
+  material_apply_textures(r, m, scene_texture_ref(sc), PS_F(ps, sp_tu), PS_F(ps, sp_tv), PS_F(ps, sp_tf));
+  return r;
+}
+
+// The normal lobe `lid` shades with: the bumped shading normal, or the one before bump mapping
+// where the lobe has disable_bump (docs/material.md §1).
+AW_FN float3 shading_normal_for_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, uint lid) {
+  if (AW_FEAT_BUMP && m->bump_binding != AW_NONE && ((m->no_bump_lobes >> lid) & 1u)) return ps_sp_unbumped_normal(ps);
+  return ps_sp_normal(ps);
+}
+
+#endif

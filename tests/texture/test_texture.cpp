@@ -1,0 +1,354 @@
+// Textures (issue 14): lookups on the host against the device, wrap modes, sRGB decoding, the
+// box-filtered checker, mip selection; cutout holes for every kind of ray, bump mapping
+// against the analytic tilt, disable_bump per lobe; the wavefront against the scalar path on a
+// textured scene; the loader's errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "host/film/image_io.h"
+#include "host/render/render.h"
+#include "host/render/scene_pack.h"
+#include "host/render/texture_pack.h"
+#include "tests/lobes/lobe_harness.h"
+#include "tests/render/render_test_util.h"
+
+#include "kernels/tests/probe_texture.cl"
+
+namespace {
+
+using aw::TextureDesc;
+
+// An image texture made in memory: value(x, y, c) for column x, row y (row 0 at the top).
+template <class F>
+TextureDesc image(int w, int h, int channels, bool eight_bit, TextureDesc::ColorSpace cs, TextureDesc::Wrap wrap, F value) {
+  TextureDesc t;
+  t.type = TextureDesc::Type::Image;
+  t.width = w;
+  t.height = h;
+  t.channels = channels;
+  t.eight_bit = eight_bit;
+  t.colorspace = cs;
+  t.wrap = wrap;
+  t.texels.assign(size_t(w) * size_t(h) * 4, 1.0f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 4; ++c) {
+        float v = value(x, y, c);
+        // What the decoder hands over: grey repeated, 8-bit values on the 1/255 grid.
+        if (channels <= 2 && c < 3) v = value(x, y, 0);
+        if ((channels == 1 || channels == 3) && c == 3) v = 1.0f;
+        if (eight_bit) v = std::round(v * 255.0f) / 255.0f;
+        t.texels[(size_t(y) * size_t(w) + size_t(x)) * 4 + size_t(c)] = v;
+      }
+  return t;
+}
+
+TextureDesc procedural(TextureDesc::Type type, glm::vec2 scale, float rotation = 0.0f) {
+  TextureDesc t;
+  t.type = type;
+  t.scale = scale;
+  t.rotation = rotation;
+  t.color1 = glm::vec3(1.0f, 0.5f, 0.25f);
+  t.color2 = glm::vec3(0.0f, 0.25f, 1.0f);
+  t.octaves = 5;
+  return t;
+}
+
+aw::PackedTextures pack(const std::vector<TextureDesc>& textures) {
+  aw::Scene s;
+  s.path = "test";
+  s.textures = textures;
+  return aw::pack_textures(s);
+}
+
+float4 eval(const aw::PackedTextures& p, size_t i, float u, float v, float f) {
+  return texture_eval(&p.textures[i], p.texels.data(), u, v, f);
+}
+
+// The same lookups through the OpenCL build of texture/texture.h (kernels/tests/
+// probe_texture.cl) and the host build: every format, channel count, wrap mode and the two
+// procedurals, at points and footprints from 0 to larger than the texture. Tolerance: the
+// suite's 1e-5 relative (host and device share every operation but log2, whose last bit
+// may differ and moves a trilinear weight by ~1e-7).
+TEST(Texture, HostMatchesDevice) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  std::vector<float> noise(64 * 64 * 4);
+  for (float& x : noise) x = uni(rng);
+  auto from_noise = [&](int w) { return [&, w](int x, int y, int c) { return noise[size_t((y * w + x) % 4096) * 4 + size_t(c)]; }; };
+  std::vector<TextureDesc> t = {
+      image(37, 23, 4, false, TextureDesc::ColorSpace::Linear, TextureDesc::Wrap::Repeat, from_noise(37)),
+      image(16, 16, 1, true, TextureDesc::ColorSpace::Linear, TextureDesc::Wrap::Clamp, from_noise(16)),
+      image(64, 32, 3, true, TextureDesc::ColorSpace::Srgb, TextureDesc::Wrap::Mirror, from_noise(64)),
+      image(8, 8, 2, true, TextureDesc::ColorSpace::Linear, TextureDesc::Wrap::Black, from_noise(8)),
+      procedural(TextureDesc::Type::Checker, glm::vec2(8.0f, 5.0f), 30.0f),
+      procedural(TextureDesc::Type::Noise, glm::vec2(6.0f, 6.0f)),
+  };
+  t[0].scale = glm::vec2(2.0f, 3.0f);
+  t[0].offset = glm::vec2(0.25f, -0.5f);
+  aw::PackedTextures p = pack(t);
+  EXPECT_EQ(p.textures[1].format, AW_TEXFMT_U8);
+  EXPECT_EQ(p.textures[2].format, AW_TEXFMT_F16);
+  EXPECT_EQ(p.textures[0].format, AW_TEXFMT_F32);
+  std::vector<float> in;
+  const float footprints[] = {0.0f, 1e-3f, 0.01f, 0.05f, 0.3f, 2.0f};
+  for (int i = 0; i < 6000; ++i) {
+    in.push_back(float(i % int(t.size())));
+    in.push_back(-3.0f + 6.0f * uni(rng));
+    in.push_back(-3.0f + 6.0f * uni(rng));
+    in.push_back(footprints[i % 6]);
+  }
+  const size_t n = in.size() / AW_PROBE_TEXTURE_IN;
+  std::vector<float> host(n * AW_PROBE_TEXTURE_OUT);
+  for (size_t i = 0; i < n; ++i)
+    probe_texture_item(p.textures.data(), p.texels.data(), &in[i * AW_PROBE_TEXTURE_IN], &host[i * AW_PROBE_TEXTURE_OUT]);
+  std::vector<float> device = aw::lobe_test::run_device_probe(
+      "tests/probe_texture.cl", "probe_texture", in, AW_PROBE_TEXTURE_OUT, n,
+      {{p.textures.data(), p.textures.size() * sizeof(TextureGpu)}, {p.texels.data(), p.texels.size()}});
+  EXPECT_TRUE(aw::lobe_test::host_matches_device(host, device, aw::lobe_test::kHostDeviceRelTol,
+                                                 aw::lobe_test::kHostDeviceAbsFloor, "texture_eval"));
+  for (float x : host) ASSERT_TRUE(std::isfinite(x));
+}
+
+// A row of four texels 0.1 .. 0.4, read at texel centres outside [0, 1] under each wrap mode.
+TEST(Texture, WrapModes) {
+  auto row = [](TextureDesc::Wrap w) {
+    return image(4, 1, 1, false, TextureDesc::ColorSpace::Linear, w, [](int x, int, int) { return 0.1f * float(x + 1); });
+  };
+  aw::PackedTextures p = pack({row(TextureDesc::Wrap::Repeat), row(TextureDesc::Wrap::Clamp),
+                               row(TextureDesc::Wrap::Mirror), row(TextureDesc::Wrap::Black)});
+  struct Case {
+    float u;
+    float want[4];  // repeat, clamp, mirror, black
+  } cases[] = {
+      {0.375f, {0.2f, 0.2f, 0.2f, 0.2f}},     // texel 1, inside
+      {-0.125f, {0.4f, 0.1f, 0.1f, 0.0f}},    // texel -1
+      {-0.375f, {0.3f, 0.1f, 0.2f, 0.0f}},    // texel -2
+      {1.125f, {0.1f, 0.4f, 0.4f, 0.0f}},     // texel 4
+      {2.875f, {0.4f, 0.4f, 0.4f, 0.0f}},     // texel 11 (mirror: 0 1 2 3 3 2 1 0 0 1 2 3)
+      {1.875f, {0.4f, 0.4f, 0.1f, 0.0f}},     // texel 7
+  };
+  for (const Case& c : cases)
+    for (size_t w = 0; w < 4; ++w)
+      EXPECT_NEAR(eval(p, w, c.u, 0.5f, 0.0f).x, c.want[w], 1e-6) << "u " << c.u << " wrap " << w;
+  // Huge coordinates stay finite and in range (the coordinate is reduced before indexing).
+  for (size_t w = 0; w < 4; ++w) {
+    float4 c = eval(p, w, 1e9f, -3e8f, 0.0f);
+    EXPECT_TRUE(std::isfinite(c.x) && c.x >= 0.0f && c.x <= 0.4f) << w;
+  }
+}
+
+// 8-bit sRGB images are decoded to linear with the exact IEC 61966-2-1 curve; "linear" keeps
+// the stored values. The PNG is written by the renderer's own preview writer (linear -> sRGB).
+TEST(Texture, SrgbDecode) {
+  aw::Image img;
+  img.width = 8;
+  img.height = 1;
+  const float values[8] = {0.0f, 0.001f, 0.003f, 0.05f, 0.2f, 0.5f, 0.8f, 1.0f};
+  for (float v : values)
+    for (int c = 0; c < 3; ++c) img.rgb.push_back(v);
+  const std::string path = testing::TempDir() + "/srgb_ramp_" + std::to_string(getpid()) + ".png";
+  aw::write_png_preview(path, img, 1.0f);
+  TextureDesc lin, srgb;
+  lin.colorspace = TextureDesc::ColorSpace::Linear;
+  srgb.colorspace = TextureDesc::ColorSpace::Srgb;
+  std::string err;
+  ASSERT_TRUE(aw::load_texture_file(path, &lin, &err)) << err;
+  ASSERT_TRUE(aw::load_texture_file(path, &srgb, &err)) << err;
+  ASSERT_EQ(srgb.width, 8);
+  EXPECT_TRUE(srgb.eight_bit);
+  aw::PackedTextures p = pack({srgb});
+  for (int x = 0; x < 8; ++x) {
+    const double byte = std::round(double(lin.texels[size_t(x) * 4]) * 255.0);
+    const double c = byte / 255.0;
+    const double want = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+    EXPECT_NEAR(srgb.texels[size_t(x) * 4], want, 1e-7) << "texel " << x;
+    // Within a quantisation step of what was written.
+    EXPECT_NEAR(want, values[x], std::max(0.5 / 255.0 / 12.92, 0.5 / 255.0 * 2.4 * std::pow(values[x], 1.0 / 2.4 * 1.4)))
+        << "texel " << x;
+    // Packed as a half, read back at the texel centre.
+    const float got = eval(p, 0, (float(x) + 0.5f) / 8.0f, 0.5f, 0.0f).x;
+    EXPECT_NEAR(got, want, std::max(want * 1e-3, 1e-7)) << "texel " << x;
+  }
+  // Byte 128 (the textbook value).
+  EXPECT_NEAR(std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4), 0.2158605, 1e-6);
+}
+
+// The checker under a box footprint equals the mean of the point checker over the box
+// (numerical integration on a 400 x 400 grid), and a footprint of two cells is grey.
+TEST(Texture, CheckerIsBoxFiltered) {
+  TextureDesc t = procedural(TextureDesc::Type::Checker, glm::vec2(8.0f, 8.0f));
+  t.color1 = glm::vec3(1.0f);
+  t.color2 = glm::vec3(0.0f);
+  aw::PackedTextures p = pack({t});
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  for (int k = 0; k < 40; ++k) {
+    const float u = uni(rng), v = uni(rng), f = 0.02f + 0.3f * uni(rng);  // f in UV units; 8 cells per unit
+    double sum = 0.0;
+    const int n = 400;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        sum += eval(p, 0, u + f * ((i + 0.5f) / n - 0.5f), v + f * ((j + 0.5f) / n - 0.5f), 0.0f).x;
+    EXPECT_NEAR(eval(p, 0, u, v, f).x, sum / (double(n) * n), 4e-3) << "u " << u << " v " << v << " f " << f;
+  }
+  EXPECT_NEAR(eval(p, 0, 0.3f, 0.7f, 0.25f).x, 0.5f, 1e-6);  // two cells wide
+  EXPECT_EQ(eval(p, 0, 0.01f, 0.01f, 0.0f).x, 1.0f);          // color1 at UV (0, 0)
+  EXPECT_EQ(eval(p, 0, 0.13f, 0.01f, 0.0f).x, 0.0f);
+}
+
+// A 64 x 64 image of alternating 0/1 texels: level 1 and above are 0.5 everywhere. A footprint
+// of one texel reads level 0, of two texels level 1, between them a blend (trilinear).
+TEST(Texture, MipLevelFollowsTheFootprint) {
+  TextureDesc t = image(64, 64, 1, false, TextureDesc::ColorSpace::Linear, TextureDesc::Wrap::Repeat,
+                        [](int x, int y, int) { return float((x + y) & 1); });
+  aw::PackedTextures p = pack({t});
+  EXPECT_EQ(p.textures[0].levels, 7u);
+  EXPECT_EQ(tex_image_level(&p.textures[0], 1.0f / 64.0f), 0.0f);
+  EXPECT_NEAR(tex_image_level(&p.textures[0], 2.0f / 64.0f), 1.0f, 1e-6);
+  EXPECT_NEAR(tex_image_level(&p.textures[0], 8.0f / 64.0f), 3.0f, 1e-6);
+  EXPECT_EQ(tex_image_level(&p.textures[0], 1000.0f), 6.0f);
+  const float u = 2.5f / 64.0f, v = 1.0f - 3.5f / 64.0f;  // the centre of texel (2, 3): value 1
+  EXPECT_EQ(eval(p, 0, u, v, 0.0f).x, 1.0f);
+  EXPECT_EQ(eval(p, 0, u, v, 1.0f / 64.0f).x, 1.0f);
+  EXPECT_NEAR(eval(p, 0, u, v, 2.0f / 64.0f).x, 0.5f, 1e-6);
+  const float a = std::log2(1.5f);  // footprint 1.5 texels: level 0.585
+  EXPECT_NEAR(eval(p, 0, u, v, 1.5f / 64.0f).x, (1.0f - a) * 1.0f + a * 0.5f, 1e-5);
+}
+
+// ---- rendering ---------------------------------------------------------------------------
+
+double mean_channel(const aw::RenderResult& r, int c) {
+  double s = 0.0;
+  for (size_t p = 0; p < r.count.size(); ++p) s += r.sum[p * 3 + size_t(c)] / r.count[p];
+  return s / double(r.count.size());
+}
+
+aw::RenderOptions quiet() {
+  aw::RenderOptions o;
+  o.progress = false;
+  return o;
+}
+
+// Camera straight down (from 100 m, 1.1 degrees: nearly parallel rays) through a horizontal
+// quad 2 cm above the floor whose cutout opacity is an 8 x 8 checker of
+// 0 and 1, onto a white Lambert floor, under a hard sun straight down; the quad's opaque cells
+// are black. Camera rays pass through half the quad, and so do the sun's shadow rays, along
+// the same (vertical) lines: the visible floor is exactly the lit floor, 0.5 of the image at
+// radiance rho E / pi. With the holes ignored by shadow rays the image would be black; with
+// the cells ignored by camera rays it would show unlit floor.
+TEST(Texture, CutoutHolesLetCameraAndShadowRaysThrough) {
+  const std::string scene = aw_test::write_temp_scene("cutout", R"({
+    "render": { "width": 64, "height": 64, "spp": 16, "max_depth": 1 },
+    "camera": { "position": [0, 100, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 1.1 },
+    "lights": [ { "type": "sun", "direction": [0, -1, 0], "angle": 0, "color": [1, 1, 1], "intensity": 3.14159265 } ],
+    "textures": { "holes": { "type": "checker", "scale": [8, 8], "color1": [1, 1, 1], "color2": [0, 0, 0] } },
+    "materials": {
+      "floor": { "diffuse": { "color": [0.5, 0.5, 0.5] }, "reflection": { "weight": 0 } },
+      "screen": { "diffuse": { "color": [0, 0, 0] }, "reflection": { "weight": 0 },
+                  "cutout_opacity": { "texture": "holes" } }
+    },
+    "objects": [
+      { "shape": "quad", "corner": [-5, 0, 5], "edge_u": [10, 0, 0], "edge_v": [0, 0, -10], "material": "floor" },
+      { "shape": "quad", "corner": [-1, 0.02, 1], "edge_u": [2, 0, 0], "edge_v": [0, 0, -2], "material": "screen" }
+    ]
+  })");
+  aw::Scene s = aw::load_scene(scene);
+  // The view (1.1 degrees at 100 m: 1.92 m across) lies inside the 2 m quad, symmetric about
+  // its centre, so it holds holes and cells in equal parts (the trimmed edge cells are of
+  // opposite parity). A camera ray through a hole meets the floor at most 0.96 * 0.02 / 100 m
+  // (0.08% of a cell) from where the vertical shadow ray leaves it.
+  for (bool scalar : {false, true}) {
+    aw::RenderResult r = scalar ? aw::render_scalar(s, quiet()) : aw::render_wavefront(s, quiet());
+    const double mean = mean_channel(r, 0);
+    std::printf("%s: mean %.5f, expected %.5f\n", scalar ? "scalar" : "wavefront", mean, 0.5 * 0.5);
+    // The pixels on cell edges are estimated by 16 jittered samples each: measured within
+    // 2.1e-4 (0.08%) of 0.25 on both renderers; the tolerance is 0.4%.
+    EXPECT_NEAR(mean, 0.25, 1e-3) << (scalar ? "scalar" : "wavefront");
+    EXPECT_EQ(r.stats.bad_samples, 0u);
+  }
+}
+
+// A Lambert plane bumped by a height that rises linearly along u (an EXR ramp, h = k u with
+// bump.scale s) under a hard sun straight down: the bumped normal is tilted by
+// atan(s k / |dP/du|) (Blinn 1978), so the radiance is rho E cos(tilt) / pi. With
+// diffuse.disable_bump the diffuse lobe shades with the flat normal again (rho E / pi), while
+// reflection.disable_bump on the same diffuse-only material changes nothing.
+TEST(Texture, BumpTiltsTheNormalByTheAnalyticAngle) {
+  // h(u) = u at every texel centre, so the bilinear ramp is exactly u in between (clamp).
+  const int w = 64;
+  aw::Image ramp;
+  ramp.width = w;
+  ramp.height = 1;
+  for (int x = 0; x < w; ++x)
+    for (int c = 0; c < 3; ++c) ramp.rgb.push_back((float(x) + 0.5f) / float(w));
+  const std::string exr = testing::TempDir() + "/bump_ramp_" + std::to_string(getpid()) + ".exr";
+  aw::write_exr(exr, ramp);
+  const double L = 4.0, tilt = 30.0 * M_PI / 180.0;
+  const double scale = std::tan(tilt) * L;  // s k / L = tan(tilt) with k = 1
+  auto scene = [&](const std::string& disable) {
+    char buf[2048];
+    std::snprintf(buf, sizeof buf, R"({
+      "render": { "width": 32, "height": 32, "spp": 4, "max_depth": 1 },
+      "camera": { "position": [0, 100, 0], "look_at": [0, 0, 0], "up": [0, 0, -1], "fov": 0.5 },
+      "lights": [ { "type": "sun", "direction": [0, -1, 0], "angle": 0, "color": [1, 1, 1], "intensity": 3.14159265 } ],
+      "textures": { "ramp": { "file": "%s", "wrap": "clamp" } },
+      "materials": { "m": { "diffuse": { "color": [0.5, 0.5, 0.5] %s }, "reflection": { "weight": 0 %s },
+                            "bump": { "input": "ramp", "scale": %.9g } } },
+      "objects": [ { "shape": "quad", "corner": [-2, 0, 2], "edge_u": [4, 0, 0], "edge_v": [0, 0, -4], "material": "m" } ]
+    })",
+                  exr.c_str(), disable == "diffuse" ? R"(, "disable_bump": true)" : "",
+                  disable == "reflection" ? R"(, "disable_bump": true)" : "", scale);
+    return aw::load_scene(aw_test::write_temp_scene("bump", buf));
+  };
+  const double flat = 0.5, bumped = 0.5 * std::cos(tilt);
+  for (bool scalar : {false, true}) {
+    auto render = [&](const aw::Scene& s) { return scalar ? aw::render_scalar(s, quiet()) : aw::render_wavefront(s, quiet()); };
+    const char* who = scalar ? "scalar" : "wavefront";
+    EXPECT_NEAR(mean_channel(render(scene("")), 1), bumped, 2e-4) << who;
+    EXPECT_NEAR(mean_channel(render(scene("diffuse")), 1), flat, 2e-4) << who << ", diffuse.disable_bump";
+    EXPECT_NEAR(mean_channel(render(scene("reflection")), 1), bumped, 2e-4) << who << ", reflection.disable_bump";
+  }
+}
+
+// The textured test scene (checker floor, a cutout screen, a bumped glossy sphere, noise),
+// per pixel: the wavefront against the scalar path, and the specialised build against the
+// generic one.
+TEST(Texture, TexturedSceneKernelMatchesScalar) {
+  aw_test::expect_kernel_matches_scalar("scenes/textures/texture_test.json", {"render.width=64", "render.height=48", "render.spp=8"});
+}
+
+// Bad texture input: each names the file, the key and what is wrong.
+TEST(Texture, LoaderErrors) {
+  auto fails_with = [](const std::string& json, const std::string& want) {
+    const std::string path = aw_test::write_temp_scene("bad_texture", json);
+    try {
+      aw::load_scene(path);
+      ADD_FAILURE() << "loaded: " << json;
+    } catch (const aw::SceneError& e) {
+      EXPECT_NE(std::string(e.what()).find(want), std::string::npos) << e.what();
+    }
+  };
+  const std::string tex = R"("textures": { "checks": { "type": "checker" } })";
+  fails_with("{" + tex + R"(, "materials": { "m": { "diffuse": { "color": { "texture": "chekcs" } } } } })",
+             "no texture named \"chekcs\" in the textures section (did you mean \"checks\"?)");
+  fails_with("{" + tex + R"(, "materials": { "m": { "refraction": { "ior": { "texture": "checks" } } } } })",
+             "refraction.ior cannot be read from a texture");
+  fails_with("{" + tex + R"(, "lights": [ { "type": "point", "color": { "texture": "checks" } } ] })",
+             "only material inputs take a texture");
+  fails_with(R"({ "textures": { "t": { "file": "no_such_file.png" } } })", "cannot open the file");
+  fails_with(R"({ "textures": { "t": { "type": "checker", "file": "x.png" } } })", "textures.t.file");
+  fails_with(R"({ "textures": { "t": { "type": "checker", "scale": [0, 1] } } })", "scale must be finite and non-zero");
+  fails_with("{" + tex + R"(, "materials": { "m": { "diffuse": { "color": { "texture": "checks", "channel": "luminance" } } } } })",
+             "unknown value \"luminance\"");
+  const std::string not_image = aw_test::write_temp_scene("not_an_image", "this is text");
+  fails_with(R"({ "textures": { "t": { "file": ")" + not_image + R"(" } } })", "not a PNG, JPEG or EXR image");
+}
+
+}  // namespace
