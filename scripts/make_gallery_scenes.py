@@ -439,6 +439,23 @@ for name, disable in (("floor_bump", False), ("floor_bump_smooth_reflection", Tr
     EXAMPLES[name]["textures"] = {"tiles": {"file": "textures/tiles.png", "colorspace": "linear", "scale": [4, 4]}}
 
 
+# 100,000 analytic spheres (each one primitive in the BVH; tessellated, they would be 1.6 G
+# triangles) on a plain under sun and sky. Written by main() but not committed (9 MB of JSON;
+# .gitignore): scripts/render_gallery.sh runs this script first.
+def spheres_100k():
+    rnd = random.Random(1)
+    mats = {"ground": {"diffuse": {"color": 0.35}, "reflection": {"weight": 0}}}
+    for k in range(8):
+        mats["m%d" % k] = {"diffuse": {"color": [round(0.1 + 0.7 * rnd.random(), 3) for _ in range(3)]},
+                           "reflection": {"weight": 0.5, "glossiness": round(0.3 + 0.6 * rnd.random(), 3)}}
+    objects = [{"shape": "quad", "corner": [-80, 0, 80], "edge_u": [160, 0, 0], "edge_v": [0, 0, -160], "material": "ground"}]
+    for _ in range(100000):
+        r = rnd.uniform(0.05, 0.25)
+        objects.append({"shape": "sphere", "center": [round(rnd.uniform(-50, 50), 3), round(r, 3), round(rnd.uniform(-50, 50), 3)],
+                        "radius": round(r, 3), "material": "m%d" % rnd.randrange(8)})
+    return daylight(mats, objects, {"position": [0, 5, 32], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 40}, spp=64)
+
+
 def main():
     import make_gltf_interior  # imports this module for write_png: loaded lazily
     make_gltf_interior.main()
@@ -455,7 +472,10 @@ def main():
         with open(os.path.join(OUT, name + ".json"), "w") as f:
             json.dump(s, f, indent=1)
             f.write("\n")
-    print("wrote %d scenes to %s" % (len(EXAMPLES), os.path.normpath(OUT)))
+    with open(os.path.join(OUT, "spheres_100k.json"), "w") as f:
+        json.dump(spheres_100k(), f, separators=(",", ":"))
+        f.write("\n")
+    print("wrote %d scenes to %s" % (len(EXAMPLES) + 1, os.path.normpath(OUT)))
 
 
 if __name__ == "__main__":

@@ -74,6 +74,13 @@ struct Flattener {
     b.lower_x = b.lower_y = b.lower_z = std::numeric_limits<float>::infinity();
     b.upper_x = b.upper_y = b.upper_z = -std::numeric_limits<float>::infinity();
     for (uint32_t i = 0; i < n; ++i) {
+      if (ids[i] >= soup.indices.size()) {  // an analytic sphere
+        const glm::vec4& s = soup.spheres[ids[i] - soup.indices.size()];
+        b.lower_x = std::min(b.lower_x, s.x - s.w); b.upper_x = std::max(b.upper_x, s.x + s.w);
+        b.lower_y = std::min(b.lower_y, s.y - s.w); b.upper_y = std::max(b.upper_y, s.y + s.w);
+        b.lower_z = std::min(b.lower_z, s.z - s.w); b.upper_z = std::max(b.upper_z, s.z + s.w);
+        continue;
+      }
       const glm::uvec3& t = soup.indices[ids[i]];
       for (int k = 0; k < 3; ++k) {
         const glm::vec3& p = soup.positions[t[k]];
@@ -88,6 +95,18 @@ struct Flattener {
   int emit_leaf(const uint32_t* ids, uint32_t n) {
     int first = int(out.leaf_tris.size());
     for (uint32_t i = 0; i < n; ++i) {
+      if (ids[i] >= soup.indices.size()) {  // an analytic sphere (kernels/types/bvh.h)
+        const glm::vec4& s = soup.spheres[ids[i] - soup.indices.size()];
+        LeafTriangle lt;
+        std::memset(&lt, 0, sizeof(lt));
+        lt.v0[0] = s.x; lt.v0[1] = s.y; lt.v0[2] = s.z;
+        std::memcpy(&lt.v0[3], &ids[i], 4);
+        lt.v1[0] = s.w;
+        const uint32_t mark = AW_LEAF_SPHERE;
+        std::memcpy(&lt.v1[3], &mark, 4);
+        out.leaf_tris.push_back(lt);
+        continue;
+      }
       const glm::uvec3& t = soup.indices[ids[i]];
       LeafTriangle lt;
       const glm::vec3 &a = soup.positions[t.x], &b = soup.positions[t.y], &c = soup.positions[t.z];
@@ -172,13 +191,19 @@ EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
 
 FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
   FlatBvh out;
-  size_t n = soup.indices.size();
+  size_t n = soup.primitive_count();
   if (n == 0) return out;
-  if (n >= (size_t(1) << 28)) throw std::runtime_error("too many triangles for the BVH leaf encoding (2^28)");
+  if (n >= (size_t(1) << 28)) throw std::runtime_error("too many primitives for the BVH leaf encoding (2^28)");
 
   auto t0 = std::chrono::steady_clock::now();
   std::vector<RTCBuildPrimitive> prims(n);
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = soup.indices.size(); i < n; ++i) {
+    const glm::vec4& s = soup.spheres[i - soup.indices.size()];
+    RTCBuildPrimitive& p = prims[i];
+    p.lower_x = s.x - s.w; p.lower_y = s.y - s.w; p.lower_z = s.z - s.w; p.geomID = 0;
+    p.upper_x = s.x + s.w; p.upper_y = s.y + s.w; p.upper_z = s.z + s.w; p.primID = unsigned(i);
+  }
+  for (size_t i = 0; i < soup.indices.size(); ++i) {
     const glm::uvec3& t = soup.indices[i];
     glm::vec3 a = soup.positions[t.x], b = soup.positions[t.y], c = soup.positions[t.z];
     glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
@@ -243,6 +268,61 @@ namespace {
 // Embree's filter callback (Embree 3, rtcSetGeometryIntersectFilterFunction): a candidate hit
 // in a cutout hole is rejected (valid = 0), and the traversal goes on as if the triangle were
 // not there.
+// Analytic spheres as an Embree user geometry whose callbacks run the kernels' own sphere test
+// (kernels/bvh/intersect_sphere.h) and cutout test, so the scalar path meets the same spheres
+// as the device's traversal; Embree's own BVH over them stays independent of ours.
+void sphere_bounds(const RTCBoundsFunctionArguments* args) {
+  const EmbreeScene* es = static_cast<const EmbreeScene*>(args->geometryUserPtr);
+  const glm::vec4& s = es->soup().spheres[args->primID];
+  RTCBounds* b = args->bounds_o;
+  b->lower_x = s.x - s.w; b->lower_y = s.y - s.w; b->lower_z = s.z - s.w;
+  b->upper_x = s.x + s.w; b->upper_y = s.y + s.w; b->upper_z = s.z + s.w;
+}
+
+// The sphere's hit in (tnear, tfar) of ray i of a packet, if it is there (cutouts).
+bool sphere_ray_hit(const EmbreeScene* es, unsigned prim, RTCRayN* ray, unsigned N, unsigned i, float* t) {
+  const glm::vec4& s = es->soup().spheres[prim];
+  const float3 o(RTCRayN_org_x(ray, N, i), RTCRayN_org_y(ray, N, i), RTCRayN_org_z(ray, N, i));
+  const float3 d(RTCRayN_dir_x(ray, N, i), RTCRayN_dir_y(ray, N, i), RTCRayN_dir_z(ray, N, i));
+  // Embree's tnear is inclusive, the kernels' t_min exclusive (ray_cast_embree.cpp passes the
+  // next float above a positive t_min): the test below is exclusive of exactly that.
+  const float t_min = std::nextafter(RTCRayN_tnear(ray, N, i), -FLT_MAX);
+  if (!intersect_sphere(o, d, float3(s.x, s.y, s.z), s.w, t_min, RTCRayN_tfar(ray, N, i), t)) return false;
+  const TextureScene* cut = es->cutouts();
+  return !cut || material_opaque_at_sphere(*cut, unsigned(es->soup().indices.size()) + prim, o + d * *t);
+}
+
+void sphere_intersect(const RTCIntersectFunctionNArguments* args) {
+  const EmbreeScene* es = static_cast<const EmbreeScene*>(args->geometryUserPtr);
+  RTCRayHitN* rh = args->rayhit;
+  RTCRayN* ray = RTCRayHitN_RayN(rh, args->N);
+  RTCHitN* hit = RTCRayHitN_HitN(rh, args->N);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    float t;
+    if (!sphere_ray_hit(es, args->primID, ray, args->N, i, &t)) continue;
+    RTCRayN_tfar(ray, args->N, i) = t;
+    RTCHitN_u(hit, args->N, i) = 0.0f;
+    RTCHitN_v(hit, args->N, i) = 0.0f;
+    RTCHitN_Ng_x(hit, args->N, i) = 0.0f;
+    RTCHitN_Ng_y(hit, args->N, i) = 0.0f;
+    RTCHitN_Ng_z(hit, args->N, i) = 1.0f;
+    RTCHitN_primID(hit, args->N, i) = args->primID;
+    RTCHitN_geomID(hit, args->N, i) = args->geomID;
+    RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];
+  }
+}
+
+void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
+  const EmbreeScene* es = static_cast<const EmbreeScene*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    float t;
+    if (sphere_ray_hit(es, args->primID, args->ray, args->N, i, &t))
+      RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+  }
+}
+
 void cutout_filter(const RTCFilterFunctionNArguments* args) {
   const TextureScene* ts = static_cast<const TextureScene*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
@@ -255,6 +335,11 @@ void cutout_filter(const RTCFilterFunctionNArguments* args) {
 }  // namespace
 
 EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup, const TextureScene* cutouts) {
+  soup_ = &soup;
+  if (cutouts) {
+    cutouts_ = *cutouts;
+    has_cutouts_ = true;
+  }
   scene_ = rtcNewScene(device.get());
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
@@ -276,13 +361,23 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup, c
       idx[3 * i + 2] = soup.indices[i].z;
     }
     if (cutouts) {
-      cutouts_ = *cutouts;
       rtcSetGeometryUserData(geom, &cutouts_);
       rtcSetGeometryIntersectFilterFunction(geom, cutout_filter);
       rtcSetGeometryOccludedFilterFunction(geom, cutout_filter);
     }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+  }
+  if (!soup.spheres.empty()) {
+    RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
+    rtcSetGeometryUserPrimitiveCount(geom, unsigned(soup.spheres.size()));
+    rtcSetGeometryUserData(geom, this);
+    rtcSetGeometryBoundsFunction(geom, sphere_bounds, nullptr);
+    rtcSetGeometryIntersectFunction(geom, sphere_intersect);
+    rtcSetGeometryOccludedFunction(geom, sphere_occluded);
+    rtcCommitGeometry(geom);
+    sphere_geom_ = rtcAttachGeometry(scene_, geom);
     rtcReleaseGeometry(geom);
   }
   rtcCommitScene(scene_);
@@ -317,7 +412,8 @@ EmbreeScene::Hit EmbreeScene::intersect(glm::vec3 org, glm::vec3 dir, float t_mi
     h.t = rh.ray.tfar;
     h.u = rh.hit.u;
     h.v = rh.hit.v;
-    h.prim = int(rh.hit.primID);
+    // Spheres' ids follow the triangles' (TriangleSoup).
+    h.prim = int(rh.hit.primID) + (rh.hit.geomID == sphere_geom_ ? int(soup_->indices.size()) : 0);
   }
   return h;
 }

@@ -28,10 +28,14 @@ class EmbreeDevice {
   RTCDevice device_;
 };
 
-// All triangles of the scene in one list: ids are indices into `indices` (Embree's primID).
+// All triangles of the scene in one list: ids are indices into `indices` (Embree's primID);
+// then the analytic spheres (centre, radius), whose ids follow the triangles': sphere k is
+// primitive indices.size() + k (kernels/bvh/intersect_sphere.h).
 struct TriangleSoup {
   std::vector<glm::vec3> positions;
   std::vector<glm::uvec3> indices;
+  std::vector<glm::vec4> spheres;
+  size_t primitive_count() const { return indices.size() + spheres.size(); }
 };
 
 struct FlatBvh {
@@ -70,6 +74,14 @@ class EmbreeScene {
  private:
   RTCScene scene_ = nullptr;
   TextureScene cutouts_{};
+  bool has_cutouts_ = false;
+  const TriangleSoup* soup_ = nullptr;  // the spheres, for the user geometry's callbacks
+  unsigned sphere_geom_ = RTC_INVALID_GEOMETRY_ID;
+
+ public:
+  // For the user geometry's callbacks (flat_bvh.cpp).
+  const TriangleSoup& soup() const { return *soup_; }
+  const TextureScene* cutouts() const { return has_cutouts_ ? &cutouts_ : nullptr; }
 };
 
 }  // namespace aw

@@ -191,9 +191,9 @@ int main(int argc, char** argv) {
     }
     aw::Scene scene = aw::load_scene(scene_path, overrides, limits);
     if (!export_geometry.empty()) {
-      aw::write_geometry_obj(scene, export_geometry);
-      std::cerr << "wrote " << export_geometry << " (" << scene.meshes.size() << " meshes, "
-                << scene.triangle_count() << " triangles)\n";
+      const size_t triangles = aw::write_geometry_obj(scene, export_geometry);
+      std::cerr << "wrote " << export_geometry << " (" << scene.meshes.size() << " meshes and " << scene.spheres.size()
+                << " tessellated spheres, " << triangles << " triangles)\n";
       return kOk;
     }
 

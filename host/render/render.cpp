@@ -73,7 +73,9 @@ std::string RenderStats::summary() const {
   s << buf;
   if (state_bytes) s << "path pool       " << format_bytes(state_bytes) << "\n";
   if (scene_bytes) {
-    s << "memory          scene " << format_bytes(scene_bytes) << " (" << triangles << " triangles)";
+    s << "memory          scene " << format_bytes(scene_bytes) << " (" << triangles << " triangles";
+    if (spheres > 0) s << ", " << spheres << " spheres";
+    s << ")";
     if (film_bytes) s << ", film " << format_bytes(film_bytes);
     if (device_bytes) s << ", all device buffers " << format_bytes(device_bytes);
     s << "\n";

@@ -48,6 +48,7 @@ struct RenderStats {
   size_t state_bytes = 0;  // path pool memory
   uint32_t pool_size = 0;  // path states in flight (wavefront)
   uint64_t triangles = 0;  // triangles in the scene (BVH input)
+  uint64_t spheres = 0;    // analytic spheres (BVH input beside the triangles)
   // Scene data the renderer reads: BVH nodes, leaf triangles, triangle info, vertices,
   // materials, lights (device buffers for the wavefront; the same arrays on the host plus
   // Embree's own BVH, which is not counted, for the scalar path).

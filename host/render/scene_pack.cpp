@@ -233,6 +233,25 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
     }
   }
 
+  // Analytic spheres (kernels/types/bvh.h): after the triangles, one vertex each (centre and
+  // radius, the frame's axes in n and t) and a TriangleInfo marked AW_SPHERE_MARK, so that
+  // their primitive ids follow the triangles' in the BVH, in Embree and in tri_info alike.
+  for (const SphereDesc& sd : scene.spheres) {
+    VertexData v;
+    std::memset(&v, 0, sizeof(v));
+    put3(v.p, sd.center);
+    v.p[3] = sd.radius;
+    put3(v.n, sd.axis_x);
+    put3(v.t, sd.axis_y);
+    TriangleInfo ti;
+    ti.v[0] = ti.v[2] = uint32_t(ps.verts.size());
+    ti.v[1] = AW_SPHERE_MARK;
+    ti.material = sd.material;
+    ps.verts.push_back(v);
+    ps.tri_info.push_back(ti);
+    ps.soup.spheres.push_back(glm::vec4(sd.center, sd.radius));
+  }
+
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     const std::string& name = i < scene.material_names.size() ? scene.material_names[i] : std::to_string(i);
     ps.materials.push_back(
@@ -250,11 +269,15 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   // Their power is taken through the scene's bounding disc, radius R (half the diagonal of
   // the geometry's bounds; 1 without geometry).
   float scene_radius = 1.0f;
-  if (!ps.soup.positions.empty()) {
+  if (!ps.soup.positions.empty() || !ps.soup.spheres.empty()) {
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const glm::vec3& q : ps.soup.positions) {
       lo = glm::min(lo, q);
       hi = glm::max(hi, q);
+    }
+    for (const glm::vec4& q : ps.soup.spheres) {
+      lo = glm::min(lo, glm::vec3(q) - q.w);
+      hi = glm::max(hi, glm::vec3(q) + q.w);
     }
     scene_radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
   }

@@ -40,6 +40,7 @@ nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
       {"pool_size", st.pool_size},
       {"state_bytes", st.state_bytes},
       {"triangles", st.triangles},
+      {"spheres", st.spheres},
       {"scene_bytes", st.scene_bytes},
       {"film_bytes", st.film_bytes},
       {"device_bytes", st.device_bytes},

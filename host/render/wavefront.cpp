@@ -150,12 +150,13 @@ class Wavefront {
         if (off == FeatureSet::name(i)) features_.on[i] = false;
     st_.kernel_features = opts_.generic_kernels ? "generic (every feature)" : "specialised: " + features_.describe();
     // Material features are checked at every hit (classify_hit), lobe splitting where it
-    // starts (shade_surface); light types and the sampler have no such check in the kernels (a
-    // compiled-out light type would be sampled as another one, a compiled-out sampler falls
-    // through to Sobol'), so the host refuses the build here.
+    // starts (shade_surface); light types, the sampler and analytic spheres have no such check
+    // in the kernels (a compiled-out light type would be sampled as another one, a
+    // compiled-out sampler falls through to Sobol', spheres would be tested as triangles), so
+    // the host refuses the build here.
     std::string lack;
     for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE,
-                  FeatureSet::LIGHT_SUN, FeatureSet::ENV_MAP, FeatureSet::LIGHT_MESH, FeatureSet::LIGHT_TREE,
+                  FeatureSet::LIGHT_SUN, FeatureSet::ENV_MAP, FeatureSet::LIGHT_MESH, FeatureSet::LIGHT_TREE, FeatureSet::SPHERE,
                   FeatureSet::SAMPLER_INDEPENDENT, FeatureSet::SAMPLER_ZSOBOL})
       if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
     if (!lack.empty())
@@ -228,6 +229,7 @@ class Wavefront {
                                 CL_MEM_READ_WRITE);
     if (textured) st_.state_bytes += size_t(pool_) * sizeof(MaterialGpu);
     st_.triangles = packed_.soup.indices.size();
+    st_.spheres = packed_.soup.spheres.size();
     st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
                       packed_arrays_bytes(packed_);
     st_.film_bytes = size_t(npix_) * (3 + 1) * 4 + size_t(max_batch_) * 3 * 4;  // film, counts, batch samples

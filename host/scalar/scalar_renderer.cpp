@@ -55,6 +55,7 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   EmbreeScene escene(embree, packed.soup, packed.features.on[FeatureSet::CUTOUT] ? &cut : nullptr);
   st.bvh_seconds = since(t_bvh);
   st.triangles = packed.soup.indices.size();
+  st.spheres = packed.soup.spheres.size();
   st.scene_bytes = packed_arrays_bytes(packed);  // Embree's BVH is Embree's business, not counted
   const HostRayCaster caster{&escene};
   sc.caster = &caster;

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "host/film/image_io.h"
+#include "host/scene/loader_parts.h"
 
 namespace aw {
 
@@ -16,14 +17,37 @@ namespace {
 
 }  // namespace
 
-void write_geometry_obj(const Scene& scene, const std::string& path) {
+size_t write_geometry_obj(const Scene& scene, const std::string& path) {
+  // Analytic spheres are written tessellated as the loader would have tessellated them (an
+  // OBJ has no spheres), in the sphere's own frame so their UVs agree.
+  std::vector<TriangleMesh> spheres;
+  for (const SphereDesc& sd : scene.spheres) {
+    glm::dmat4 m(1.0);
+    m[0] = glm::dvec4(glm::dvec3(sd.axis_x) * double(sd.radius), 0.0);
+    m[1] = glm::dvec4(glm::dvec3(sd.axis_y) * double(sd.radius), 0.0);
+    m[2] = glm::dvec4(glm::cross(glm::dvec3(sd.axis_x), glm::dvec3(sd.axis_y)) * double(sd.radius), 0.0);
+    m[3] = glm::dvec4(glm::dvec3(sd.center), 1.0);
+    TriangleMesh t;
+    scene_detail::finalize_mesh(scene_detail::make_sphere(glm::dvec3(0.0), 1.0, scene_detail::kSphereSegmentsU,
+                                                          scene_detail::kSphereSegmentsV),
+                                m, &t);
+    t.material = sd.material;
+    t.name = sd.name;
+    spheres.push_back(std::move(t));
+  }
+  size_t triangles = scene.triangle_count();
+  for (const TriangleMesh& t : spheres) triangles += t.indices.size();
   const std::string tmp = path + ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) fail(path, std::strerror(errno));
   std::fprintf(f, "# archwave geometry of %s: %zu meshes, %zu triangles, world space\n", scene.path.c_str(),
-               scene.meshes.size(), scene.triangle_count());
+               scene.meshes.size() + spheres.size(), triangles);
   size_t base = 1, nbase = 1;  // OBJ indices are 1-based and global, per kind (v, vn)
-  for (const TriangleMesh& m : scene.meshes) {
+  std::vector<const TriangleMesh*> all;
+  for (const TriangleMesh& m : scene.meshes) all.push_back(&m);
+  for (const TriangleMesh& m : spheres) all.push_back(&m);
+  for (const TriangleMesh* mp : all) {
+    const TriangleMesh& m = *mp;
     std::fprintf(f, "o %s\nusemtl %s\n", m.name.c_str(), scene.material_names.at(m.material).c_str());
     for (const auto& p : m.positions) std::fprintf(f, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
     const bool smooth = !m.normals.empty();
@@ -48,6 +72,7 @@ void write_geometry_obj(const Scene& scene, const std::string& path) {
     std::remove(tmp.c_str());
     fail(path, std::strerror(e));
   }
+  return triangles;
 }
 
 }  // namespace aw

@@ -11,12 +11,14 @@
 namespace aw {
 
 // One `o` group per mesh (Scene::meshes order; the name is the mesh's, e.g. "objects[3]
-// (sphere)"), `usemtl` with its material's name, positions, per-vertex normals where the
-// mesh has them (`f a//a ...`, else flat `f a b c`), counter-clockwise seen from the side the
-// geometric normal points to, as archwave winds them. Floats are printed with 9 significant
+// (box)"), then one per analytic sphere (Scene::spheres), tessellated as the loader would; each
+// with `usemtl` its material's name, positions, per-vertex normals where the mesh has them
+// (`f a//a ...`, else flat `f a b c`), counter-clockwise seen from the side the geometric
+// normal points to, as archwave winds them. Floats are printed with 9 significant
 // digits, so they read back bit for bit. Written to "<path>.tmp" and renamed; throws
 // OutputError (host/film/image_io.h) naming the file on failure.
-void write_geometry_obj(const Scene& scene, const std::string& path);
+// Returns the number of triangles written (analytic spheres tessellated included).
+size_t write_geometry_obj(const Scene& scene, const std::string& path);
 
 }  // namespace aw
 

@@ -732,13 +732,8 @@ class Importer {
     const std::pair<int, bool> image_key(tex.source, srgb);
     auto dec = decoded_.find(image_key);
     if (dec != decoded_.end()) {
-      const TextureDesc& d = out_->textures[dec->second];
-      t.source = d.source;
-      t.width = d.width;
-      t.height = d.height;
-      t.channels = d.channels;
-      t.eight_bit = d.eight_bit;
-      t.texels = d.texels;
+      t.source = out_->textures[dec->second].source;
+      copy_decoded_image(out_->textures[dec->second], &t);
     } else {
       if (!decode_image(tex.source, &t)) return false;
       decoded_[image_key] = out_->textures.size();

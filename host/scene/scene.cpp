@@ -15,6 +15,7 @@
 
 #include "host/film/image_io.h"
 #include "host/scene/gltf_mesh.h"
+#include "host/scene/obj_materials.h"
 #include "host/scene/loader_parts.h"
 #include "kernels/common/compat.h"
 #include "kernels/types/material.h"
@@ -535,7 +536,10 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
   std::string name = "objects[" + std::to_string(index) + "] (" + shape_name;
 
   DMesh mesh;
-  GltfImport gltf;          // a glTF mesh: its primitives instead of `mesh`
+  bool analytic_sphere = false;  // a sphere that may stay one primitive (decided below)
+  glm::dvec3 sphere_center(0.0);
+  double sphere_radius = 1.0;
+  GltfImport gltf;          // a glTF file, or an OBJ with its .mtl: its primitives instead of `mesh`
   std::string gltf_file;    // as resolved
   // Where geometry problems are reported: the "file" key for meshes (the data came from
   // there), the object itself for built-in shapes.
@@ -558,6 +562,23 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
           ctx.fail(file_node.path, "cannot load glTF \"" + resolved + "\": " + error);
         for (const std::string& w : gltf_warnings) ctx.warn(file_node.path, "glTF \"" + resolved + "\": " + w);
         if (gltf.primitives.empty()) ctx.fail(file_node.path, "glTF \"" + resolved + "\" has no triangles");
+        gltf_file = resolved;
+        break;
+      }
+      // An OBJ without a "material" key takes its .mtl materials (docs/obj-mtl.md), through
+      // the same path as a glTF file's.
+      if (!has(n, "material")) {
+        ObjImport obj;
+        std::vector<std::string> obj_warnings;
+        if (!load_obj_with_materials(resolved, &obj, &error, &obj_warnings))
+          ctx.fail(file_node.path, "cannot load mesh \"" + resolved + "\": " + error);
+        for (const std::string& w : obj_warnings) ctx.warn(file_node.path, "mesh \"" + resolved + "\": " + w);
+        if (obj.primitives.empty()) ctx.fail(file_node.path, "mesh \"" + resolved + "\" has no triangles");
+        gltf.primitives = std::move(obj.primitives);
+        gltf.material_names = std::move(obj.material_names);
+        gltf.materials = std::move(obj.materials);
+        gltf.bindings = std::move(obj.bindings);
+        gltf.textures = std::move(obj.textures);
         gltf_file = resolved;
         break;
       }
@@ -589,7 +610,10 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
         su = read_int_in(ctx, element(c, 0), 3, 4096);
         sv = read_int_in(ctx, element(c, 1), 2, 4096);
       });
-      mesh = make_sphere(center, radius, su, sv);
+      // Analytic unless "segments" asks for a tessellation (or, below, the transform or
+      // light sampling need one).
+      if (has(n, "segments")) mesh = make_sphere(center, radius, su, sv);
+      else sphere_center = center, sphere_radius = radius, analytic_sphere = true;
       break;
     }
     case Shape::Quad: {
@@ -642,8 +666,8 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
   bool light_sampling = false;
   if_present(n, "light_sampling", [&](const Node& c) { light_sampling = read_bool(ctx, c); });
 
-  // A glTF file: one mesh per primitive, with the file's materials unless "material" names
-  // one for all of them (docs/gltf.md).
+  // A glTF file (or an OBJ read with its .mtl): one mesh per primitive, with the file's
+  // materials unless "material" names one for all of them (docs/gltf.md, docs/obj-mtl.md).
   if (!gltf_file.empty()) {
     std::vector<uint32_t> ids;
     uint32_t forced = AW_NONE;
@@ -699,6 +723,35 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
     ctx.fail(mat_node.path, message);
   }
 
+  // A sphere stays analytic under a similarity (rotation, uniform scale, translation: it is
+  // still a sphere) without light sampling (which samples triangles); otherwise it is
+  // tessellated as before (docs/scene-format.md#sphere).
+  if (analytic_sphere) {
+    const glm::dmat3 L(transform);
+    const double s2 = glm::dot(L[0], L[0]);
+    bool similarity = glm::determinant(L) > 0.0;
+    for (int a = 0; a < 3 && similarity; ++a)
+      for (int b = 0; b < 3; ++b)
+        if (std::fabs(glm::dot(L[a], L[b]) - (a == b ? s2 : 0.0)) > 1e-9 * s2) similarity = false;
+    if (similarity && !light_sampling) {
+      SphereDesc sd;
+      const glm::dvec3 c = glm::dvec3(transform * glm::dvec4(sphere_center, 1.0));
+      const double r = sphere_radius * std::sqrt(s2);
+      sd.center = glm::vec3(c);
+      sd.radius = float(r);
+      sd.axis_x = glm::vec3(glm::normalize(L[0]));
+      sd.axis_y = glm::vec3(glm::normalize(L[1]));
+      if (!(std::isfinite(r) && r > 0.0 && std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z)) ||
+          !(sd.radius > 0.0f) || !std::isfinite(sd.radius))
+        ctx.fail(geometry_path, name + " has a centre or radius that is not a finite positive number after the transform");
+      sd.material = found->second;
+      sd.name = name;
+      scene.spheres.push_back(sd);
+      return {};
+    }
+    mesh = make_sphere(sphere_center, sphere_radius, kSphereSegmentsU, kSphereSegmentsV);
+  }
+
   TriangleMesh out;
   if (!finalize_mesh(mesh, transform, &out)) {
     ctx.fail(geometry_path, name + " has a vertex coordinate or normal that is NaN or infinite");
@@ -735,6 +788,9 @@ uint64_t builtin_triangles(const Node& n) {
   };
   if (!n.j->is_object() || !n.j->contains("shape") || !(*n.j)["shape"].is_string()) return 0;
   const std::string shape = (*n.j)["shape"].get<std::string>();
+  // An analytic sphere counts as one primitive (about as much memory as a triangle); with
+  // "segments" or light sampling it is tessellated.
+  if (shape == "sphere" && !n.j->contains("segments") && !n.j->contains("light_sampling")) return 1;
   if (shape == "sphere")
     return sphere_triangle_count(count("segments", 0, kSphereSegmentsU), count("segments", 1, kSphereSegmentsV));
   if (shape == "disk") return disk_triangle_count(count("segments", 0, kDiskSegments));
@@ -843,12 +899,14 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
     for (size_t i = 0; i < c.j->size(); ++i) {
       const Node obj = element(c, i);
       check_memory(ctx, obj.path, limits, fixed_bytes, triangles + builtin_triangles(obj));
-      const size_t first = scene.meshes.size();
+      const size_t first = scene.meshes.size(), first_sphere = scene.spheres.size();
       for (TriangleMesh& m : parse_object(ctx, obj, i, material_index, scene, gltf_materials)) {
         triangles += m.indices.size();
         scene.meshes.push_back(std::move(m));
       }
+      triangles += scene.spheres.size() - first_sphere;  // a primitive each
       check_memory(ctx, obj.path, limits, fixed_bytes, triangles);
+      if (scene.meshes.size() == first) continue;  // an analytic sphere
       // Light sampling: of the object's emitting parts (a glTF file's primitives whose material
       // emits nothing stay plain geometry); an object with none is an error.
       size_t emitting = 0;

@@ -122,6 +122,19 @@ struct TriangleMesh {
   bool light_sampling = false;  // objects[].light_sampling: its triangles are lights (incandescent material)
 };
 
+// An analytic sphere (objects[].shape "sphere" under a similarity transform, without
+// "segments" or light_sampling: docs/scene-format.md#sphere): one primitive in world space.
+// Its frame places the UV parametrisation as the tessellated sphere's: u = 0 along axis_x, v
+// from -axis_y (0) to +axis_y (1).
+struct SphereDesc {
+  glm::vec3 center{0.0f};
+  float radius = 1.0f;
+  glm::vec3 axis_x{1.0f, 0.0f, 0.0f};
+  glm::vec3 axis_y{0.0f, 1.0f, 0.0f};
+  uint32_t material = 0;
+  std::string name;
+};
+
 struct Scene {
   std::string path;  // the scene file as given
   RenderSettings render;
@@ -132,6 +145,7 @@ struct Scene {
   std::vector<MaterialDesc> materials;
   std::vector<TextureDesc> textures;  // the "textures" section (and those glTF files bring)
   std::vector<TriangleMesh> meshes;
+  std::vector<SphereDesc> spheres;
   std::vector<std::string> warnings;  // already printed once by load_scene; kept for tests
 
   size_t triangle_count() const {

@@ -38,6 +38,16 @@ struct TextureDesc {
   int octaves = 4;
 };
 
+// The decoded image of `from` (size, channels, precision, texels) into *to, which keeps its own
+// name, colour space, wrap and transform: two uses of one file with other settings.
+inline void copy_decoded_image(const TextureDesc& from, TextureDesc* to) {
+  to->width = from.width;
+  to->height = from.height;
+  to->channels = from.channels;
+  to->eight_bit = from.eight_bit;
+  to->texels = from.texels;
+}
+
 // A material input read from a texture: {"texture": NAME, "channel": "r", "multiplier": 2}.
 // channel: -1 = RGB for colours, the luminance (Rec. 709 weights) for scalars; 0..3 = R, G, B, A
 // (a colour input then takes that channel as grey).

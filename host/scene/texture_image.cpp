@@ -153,7 +153,7 @@ bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* 
   for (int i = 0; i < 256; ++i) lut8[i] = float(srgb ? srgb_to_linear(i / 255.0) : i / 255.0);
   const int colour_channels = (n == 1 || n == 2) ? 1 : 3;
   for (size_t i = 0; i < size_t(w) * size_t(h); ++i) {
-    float v[4];
+    float v[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     for (int c = 0; c < n; ++c) {
       const bool is_alpha = (n == 2 && c == 1) || (n == 4 && c == 3);
       if (sixteen) {

@@ -5,7 +5,9 @@
 
 #include "common/compat.h"
 #include "types/bvh.h"
+#include "bvh/intersect_sphere.h"
 #include "bvh/intersect_triangle.h"
+#include "common/features.h"
 #include "texture/material_textures.h"
 
 typedef struct {
@@ -123,6 +125,19 @@ AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_node
         float4 p1 = tris[i * 3 + 1];
         float4 p2 = tris[i * 3 + 2];
         float t, u, v;
+        // An analytic sphere (types/bvh.h): its hit's (u, v) is the sphere's UV.
+        if (AW_FEAT_SPHERE && as_uint(p1.w) == AW_LEAF_SPHERE) {
+          if (!intersect_sphere(org, dir, make_float3(p0.x, p0.y, p0.z), p1.x, t_min, hit.t, &t)) continue;
+          u = 0.0f;
+          v = 0.0f;
+          if (cut && !material_opaque_at_sphere(*cut, as_uint(p0.w), org + dir * t)) continue;
+          hit.t = t;
+          hit.u = u;
+          hit.v = v;
+          hit.prim = (int)as_uint(p0.w);
+          if (any_hit) return hit;
+          continue;
+        }
         if (intersect_triangle(org, shear, make_float3(p0.x, p0.y, p0.z),
                                make_float3(p1.x, p1.y, p1.z), make_float3(p2.x, p2.y, p2.z),
                                t_min, hit.t, &t, &u, &v)) {

@@ -68,7 +68,34 @@ typedef struct {
   float3 p0, p1, p2;
   float b0, b1, b2;  // barycentrics of p
   int front;      // the ray arrived on the outside of the surface
+  int sphere;     // an analytic sphere (p0..p2 and the barycentrics unused): its UV is uv
+  float2 uv;
 } HitPoint;
+
+// The shading point of an analytic sphere hit (bvh/intersect_sphere.h): the point projected
+// onto the sphere, normals along the radius (the exact surface: the shading normal is the
+// geometric one), its UV by the sphere's parametrisation.
+AW_FN HitPoint classify_sphere_point(PathRef ps, const AW_GLOBAL VertexData* c, float3 dir) {
+  HitPoint h;
+  float3 center = make_float3(c->p[0], c->p[1], c->p[2]);
+  float3 w = ps_ray_origin(ps) + dir * PS_F(ps, hit_t) - center;
+  float l2 = dot(w, w);
+  w = l2 > 0.0f ? w / sqrt(l2) : -dir;
+  h.p = center + w * c->p[3];
+  h.p0 = h.p1 = h.p2 = h.p;
+  h.b0 = 1.0f;
+  h.b1 = h.b2 = 0.0f;
+  h.sphere = 1;
+  h.uv = sphere_uv(w, make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]));
+  h.front = dot(w, dir) < 0.0f;
+  h.n = h.ng = h.front ? w : -w;
+  return h;
+}
+
+// dP/du and dP/dv of an analytic sphere at the hit's UV.
+AW_FN void classify_sphere_dpduv(const AW_GLOBAL VertexData* c, HitPoint h, float3* dpdu, float3* dpdv) {
+  sphere_dpduv(h.uv, c->p[3], make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]), dpdu, dpdv);
+}
 
 // Fog: the segment just traced ran inside a foggy object (Beer-Lambert, docs/material.md §3.7).
 AW_FN void classify_fog(PathRef ps, SceneRef sc) {
@@ -134,6 +161,19 @@ AW_FN void classify_texture_point(PathRef ps, const AW_GLOBAL VertexData* v0, co
                                   const AW_GLOBAL VertexData* v2, HitPoint h, float3 dir) {
   float w = PS_F(ps, cone_w) + PS_F(ps, cone_s) * PS_F(ps, hit_t);
   PS_F(ps, cone_w) = w;
+  float cos_v = fmax(fabs(dot(h.ng, dir)), 1e-2f);
+  if (AW_FEAT_SPHERE && h.sphere) {
+    // |dP/du x dP/dv| = 2 pi^2 r^2 sin(theta), the sphere's area per unit UV area.
+    float3 dpdu, dpdv;
+    classify_sphere_dpduv(v0, h, &dpdu, &dpdv);
+    float3 c = cross(dpdu, dpdv);
+    float a = sqrt(dot(c, c));
+    float f = a > 0.0f ? (w / cos_v) / sqrt(a) : 0.0f;
+    PS_F(ps, sp_tu) = h.uv.x;
+    PS_F(ps, sp_tv) = h.uv.y;
+    PS_F(ps, sp_tf) = isfinite(f) ? f : 0.0f;
+    return;
+  }
   PS_F(ps, sp_tu) = h.b0 * v0->uv[0] + h.b1 * v1->uv[0] + h.b2 * v2->uv[0];
   PS_F(ps, sp_tv) = h.b0 * v0->uv[1] + h.b1 * v1->uv[1] + h.b2 * v2->uv[1];
   float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
@@ -141,7 +181,6 @@ AW_FN void classify_texture_point(PathRef ps, const AW_GLOBAL VertexData* v0, co
   float uv2 = fabs(du1 * dv2 - du2 * dv1);  // twice the UV area
   float3 c = cross(h.p1 - h.p0, h.p2 - h.p0);
   float world2 = sqrt(dot(c, c));  // twice the world area
-  float cos_v = fmax(fabs(dot(h.ng, dir)), 1e-2f);
   float f = world2 > 0.0f ? (w / cos_v) * sqrt(uv2 / world2) : 0.0f;
   PS_F(ps, sp_tf) = isfinite(f) ? f : 0.0f;
 }
@@ -153,13 +192,19 @@ AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu*
                            const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
                            const AW_GLOBAL VertexData* v2, float3 dir) {
   PS_F(ps, sp_bx) = h.n.x; PS_F(ps, sp_by) = h.n.y; PS_F(ps, sp_bz) = h.n.z;
-  float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
-  float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
-  float det = du1 * dv2 - du2 * dv1;
-  if (!(fabs(det) > 1e-20f)) return h.n;  // no UV parametrisation: nothing to bump along
-  // dP/du and dP/dv of the triangle (Pharr, Jakob & Humphreys, pbrt-v3, Sec. 3.6.2).
-  float3 e1 = h.p1 - h.p0, e2 = h.p2 - h.p0;
-  float3 dpdu = (e1 * dv2 - e2 * dv1) / det, dpdv = (e2 * du1 - e1 * du2) / det;
+  float3 dpdu, dpdv;
+  if (AW_FEAT_SPHERE && h.sphere) {
+    classify_sphere_dpduv(v0, h, &dpdu, &dpdv);
+  } else {
+    float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
+    float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
+    float det = du1 * dv2 - du2 * dv1;
+    if (!(fabs(det) > 1e-20f)) return h.n;  // no UV parametrisation: nothing to bump along
+    // dP/du and dP/dv of the triangle (Pharr, Jakob & Humphreys, pbrt-v3, Sec. 3.6.2).
+    float3 e1 = h.p1 - h.p0, e2 = h.p2 - h.p0;
+    dpdu = (e1 * dv2 - e2 * dv1) / det;
+    dpdv = (e2 * du1 - e1 * du2) / det;
+  }
   TextureScene ts = scene_texture_ref(sc);
   const AW_GLOBAL TexBindingGpu* b = &sc.tex_bindings[m->bump_binding];
   float u = PS_F(ps, sp_tu), v = PS_F(ps, sp_tv), f = PS_F(ps, sp_tf);
@@ -210,6 +255,8 @@ AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, co
   if (dot(nshade, ng) < 0.0f || dot(nshade, dir) >= 0.0f) nshade = ng;
   h.n = nshade;
   h.ng = ng;
+  h.sphere = 0;
+  h.uv = make_float2(0.0f, 0.0f);
   return h;
 }
 
@@ -225,7 +272,15 @@ AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGp
   if (h.front) PS_U(ps, flags) |= AW_PATH_FRONT;
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
   float3 tangent = make_float3(0.0f, 0.0f, 0.0f);
-  if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f) {
+  if (AW_FEAT_ANISOTROPY && AW_FEAT_SPHERE && m->aniso_amount != 0.0f && h.sphere) {
+    // Both orientations are dP/du on a sphere (make_sphere's tangents are its direction),
+    // taken as the unit (-sin p, 0, -cos p) in the sphere's frame, defined at the poles too.
+    float p = 2.0f * M_PI_F * h.uv.x;
+    float3 ax = make_float3(v0->n[0], v0->n[1], v0->n[2]), ay = make_float3(v0->t[0], v0->t[1], v0->t[2]);
+    tangent = ax * (-sin(p)) + cross(ax, ay) * (-cos(p));
+    tangent = normalize(tangent - h.n * dot(h.n, tangent));
+    PS_F(ps, sp_tx) = tangent.x; PS_F(ps, sp_ty) = tangent.y; PS_F(ps, sp_tz) = tangent.z;
+  } else if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f) {
     tangent = m->aniso_orientation == AW_ANISO_UV
                   ? triangle_tangent(v0, v1, v2, h.p0, h.p1, h.p2, h.n)
                   : interpolated_tangent(v0, v1, v2, h.b0, h.b1, h.b2, h.p0, h.p1, h.p2, h.n);
@@ -300,9 +355,11 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
   const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
   const AW_GLOBAL VertexData* v0 = &sc.verts[tri->v[0]];
-  const AW_GLOBAL VertexData* v1 = &sc.verts[tri->v[1]];
+  // An analytic sphere (types/bvh.h) has one vertex, its centre: v1 = v2 = v0.
+  int sphere = AW_FEAT_SPHERE && tri->v[1] == AW_SPHERE_MARK;
+  const AW_GLOBAL VertexData* v1 = &sc.verts[sphere ? tri->v[0] : tri->v[1]];
   const AW_GLOBAL VertexData* v2 = &sc.verts[tri->v[2]];
-  HitPoint h = classify_hit_point(ps, v0, v1, v2, dir);
+  HitPoint h = sphere ? classify_sphere_point(ps, v0, dir) : classify_hit_point(ps, v0, v1, v2, dir);
 
   // 3. The feature guard. The host derived the features from this very scene, so this cannot
   // happen; if it does, it is counted and the host refuses the image rather than render it wrong.

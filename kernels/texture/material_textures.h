@@ -4,6 +4,7 @@
 #ifndef AW_TEXTURE_MATERIAL_TEXTURES_H
 #define AW_TEXTURE_MATERIAL_TEXTURES_H
 
+#include "bvh/intersect_sphere.h"
 #include "common/compat.h"
 #include "texture/texture.h"
 #include "types/bvh.h"
@@ -67,6 +68,23 @@ AW_FN int material_opaque_at(TextureScene ts, uint prim, float b1, float b2) {
   const AW_GLOBAL MaterialGpu* m = &ts.materials[ts.tri_info[prim].material];
   if (m->cutout_binding == AW_NONE) return m->cutout_opacity >= 0.5f;
   float2 uv = triangle_uv(ts, prim, b1, b2);
+  return binding_eval_scalar(ts, &ts.bindings[m->cutout_binding], uv.x, uv.y, 0.0f) >= 0.5f;
+}
+
+// An analytic sphere's centre vertex (types/bvh.h, AW_SPHERE_MARK), and the UV at a point on it.
+AW_FN int prim_is_sphere(TextureScene ts, uint prim) { return ts.tri_info[prim].v[1] == AW_SPHERE_MARK; }
+AW_FN float2 sphere_point_uv(const AW_GLOBAL VertexData* c, float3 p) {
+  float3 w = p - make_float3(c->p[0], c->p[1], c->p[2]);
+  float l2 = dot(w, w);
+  w = l2 > 0.0f ? w / sqrt(l2) : make_float3(0.0f, 1.0f, 0.0f);
+  return sphere_uv(w, make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]));
+}
+
+// material_opaque_at for an analytic sphere, at point p of the ray (inside the traversal).
+AW_FN int material_opaque_at_sphere(TextureScene ts, uint prim, float3 p) {
+  const AW_GLOBAL MaterialGpu* m = &ts.materials[ts.tri_info[prim].material];
+  if (m->cutout_binding == AW_NONE) return m->cutout_opacity >= 0.5f;
+  float2 uv = sphere_point_uv(&ts.verts[ts.tri_info[prim].v[0]], p);
   return binding_eval_scalar(ts, &ts.bindings[m->cutout_binding], uv.x, uv.y, 0.0f) >= 0.5f;
 }
 

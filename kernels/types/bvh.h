@@ -36,12 +36,20 @@ typedef struct {
 
 // Leaf triangle, in leaf order: the three vertices as float4 (w of v0 holds the original
 // triangle id as uint bits, the id Embree reports as primID, so hits name the same triangle
-// on both paths). 48 bytes.
+// on both paths). 48 bytes. An analytic sphere takes the same slot: v0 = (centre, id bits),
+// v1 = (radius, 0, 0, AW_LEAF_SPHERE as uint bits; a triangle's v1.w is 0), v2 unused; its id
+// follows the triangles' (kernels/bvh/intersect_sphere.h).
 typedef struct {
   float v0[4];
   float v1[4];
   float v2[4];
 } LeafTriangle;
+#define AW_LEAF_SPHERE 1u
+
+// An analytic sphere's TriangleInfo: v[0] = the vertex that holds its centre and radius
+// (p = centre, p[3] = radius; n = its x axis, t = its pole axis y: intersect_sphere.h),
+// v[1] = AW_SPHERE_MARK, v[2] = v[0].
+#define AW_SPHERE_MARK 0xfffffffeu
 
 // Per original triangle: vertex indices into the shared vertex arrays, and the material.
 // (Which triangles are lights is a separate array, sc.tri_light, present only in scenes with

@@ -7,7 +7,8 @@ build/bench/bench_traversal), so what it measures is what a user runs. Sections:
   knobs           lobe splitting, trace depth, cut-off, Russian roulette at equal time
   throughput      traversal vs Embree, stage breakdown, memory per path state / triangle
   specialisation  specialised vs generic kernels: render time, cold and warm builds
-  scaling         time vs triangle count and vs resolution, memory vs resolution
+  scaling         time vs triangle count, memory and time vs sphere count (analytic, tessellated),
+                  time and memory vs resolution
   devices         the same small table on every OpenCL device and the scalar path
   lights          many lights (light tree against power, 1 to 10,000 lights: time and error),
                   environment-map importance vs uniform sampling, AO against GI, AO samples

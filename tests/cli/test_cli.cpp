@@ -253,8 +253,8 @@ TEST(Cli, StatsJsonHoldsTheRenderStats) {
   uint64_t scene_b = w["scene_bytes"], film = w["film_bytes"], device = w["device_bytes"];
   EXPECT_GT(pool, 0u);
   EXPECT_GE(state, pool * 4 * 8) << "a path state is several words";
-  EXPECT_GT(tris, 0u) << "the sphere is tessellated";
-  EXPECT_GE(scene_b, tris * 3 * 4 * 3) << "at least the vertices of every triangle";
+  EXPECT_EQ(w["spheres"], 1) << "the sphere is one analytic primitive";
+  EXPECT_GE(scene_b, tris * 3 * 4 * 3 + 16) << "at least the vertices of every triangle and the sphere";
   EXPECT_GE(film, 8u * 8u * 16u) << "RGB sums and a count per pixel";
   EXPECT_GE(device, state + scene_b + film);
 
@@ -320,11 +320,12 @@ namespace {
 // Memory budgets (docs/cli.md, --max-memory): a scene whose render would not fit is refused
 // with the sizes before its geometry is generated (exit 3, the object's position named), fast,
 // whatever its size: 200,000 default spheres (3.2 G triangles) are refused at the first one
-// that crosses the limit, not tessellated. A bad size is a usage error.
+// that crosses the limit, not tessellated (spheres with "segments": analytic spheres are one
+// primitive each, tests/render/test_spheres.cpp). A bad size is a usage error.
 TEST(Cli, MaxMemoryRefusesAScenePastTheLimitBeforeGeneratingIt) {
   std::string objects;
   for (int i = 0; i < 200000; ++i)
-    objects += std::string(i ? "," : "") + R"({"shape":"sphere","center":[0,0,0],"material":"m"})";
+    objects += std::string(i ? "," : "") + R"({"shape":"sphere","center":[0,0,0],"segments":[128,64],"material":"m"})";
   const std::string path = write_scene("many_spheres.json", std::string(R"({"materials":{"m":{}},"objects":[)") +
                                                                  objects + "]}");
   const auto t0 = std::chrono::steady_clock::now();

@@ -138,6 +138,8 @@ TEST(Specialisation, MissingFeatureIsNeverSilentlyIgnored) {
       {"LIGHT_POINT", {}},
       {"SAMPLER_INDEPENDENT", {"render.sampler=independent"}},
       {"SAMPLER_ZSOBOL", {"render.sampler=zsobol"}},
+      {"TEXTURE", {R"(textures.t={"type":"checker"})", R"(materials.white.diffuse.color={"texture":"t"})"}},
+      {"BUMP", {R"(textures.t={"type":"noise"})", "materials.white.bump.input=t"}},
   };
   for (const Case& c : cases) {
     std::vector<std::string> defs = {"render.width=32", "render.height=32", "render.spp=2"};

@@ -11,6 +11,7 @@
 
 #include "host/film/image_io.h"
 #include "host/scene/export_obj.h"
+#include "host/scene/loader_parts.h"
 #include "host/scene/scene.h"
 #include "tests/scene/scene_test_util.h"
 
@@ -71,7 +72,8 @@ void expect_round_trip(const std::string& scene_file) {
   aw::write_geometry_obj(s, path);
   Obj o = read_back(path);
   std::remove(path.c_str());
-  ASSERT_EQ(o.groups.size(), s.meshes.size()) << scene_file;
+  // Every mesh, then every analytic sphere tessellated as the loader tessellates one.
+  ASSERT_EQ(o.groups.size(), s.meshes.size() + s.spheres.size()) << scene_file;
   size_t faces = 0;
   for (size_t g = 0; g < s.meshes.size(); ++g) {
     const aw::TriangleMesh& m = s.meshes[g];
@@ -89,6 +91,19 @@ void expect_round_trip(const std::string& scene_file) {
         }
       }
     faces += og.v.size();
+  }
+  const size_t per_sphere = aw::scene_detail::sphere_triangle_count(aw::scene_detail::kSphereSegmentsU,
+                                                                    aw::scene_detail::kSphereSegmentsV);
+  for (size_t k = 0; k < s.spheres.size(); ++k) {
+    const aw::SphereDesc& sd = s.spheres[k];
+    const ObjGroup& og = o.groups[s.meshes.size() + k];
+    EXPECT_EQ(og.name, sd.name);
+    EXPECT_EQ(og.material, s.material_names[sd.material]);
+    ASSERT_EQ(og.v.size(), per_sphere) << sd.name;
+    // Every vertex on the sphere.
+    for (const auto& tri : og.v)
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(glm::length(o.v[tri[c]] - sd.center), sd.radius, 1e-5 * sd.radius) << sd.name;
   }
   EXPECT_EQ(faces, s.triangle_count());
 }

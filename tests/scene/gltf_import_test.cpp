@@ -2,6 +2,8 @@
 // Every glTF file here is written by the test itself (JSON with base64 data-URI buffers, or a
 // .glb assembled byte by byte), so each case shows exactly what it feeds the importer.
 #include <gtest/gtest.h>
+
+#include "tests/scene/scene_test_util.h"
 #include <png.h>
 #include <unistd.h>
 
@@ -42,25 +44,10 @@ std::string base64(const std::vector<uint8_t>& b) {
   return out;
 }
 
-// A fresh directory per test process for the files the tests write, removed at exit.
-std::string temp_dir() {
-  struct Dir {
-    std::string path = ::testing::TempDir() + "archwave_gltf_" + std::to_string(::getpid()) + "/";
-    Dir() { std::filesystem::create_directories(path); }
-    ~Dir() {
-      std::error_code ec;
-      std::filesystem::remove_all(path, ec);
-    }
-  };
-  static const Dir dir;
-  return dir.path;
-}
+std::string temp_dir() { return aw_test::scratch_dir("gltf"); }
 
 std::string write_file(const std::string& name, const std::string& bytes) {
-  const std::string path = temp_dir() + name;
-  std::ofstream f(path, std::ios::binary);
-  f.write(bytes.data(), std::streamsize(bytes.size()));
-  return path;
+  return aw_test::write_scratch_file(temp_dir(), name, bytes);
 }
 
 // A 2 x 2 RGBA PNG (8 bits per channel), encoded with libpng in memory.

@@ -1,6 +1,12 @@
 // Shared helpers for the scene loader tests.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -8,6 +14,33 @@
 #include "host/scene/scene.h"
 
 namespace aw_test {
+
+// A fresh directory per test process and `tag` for the files a test writes, removed at exit.
+inline std::string scratch_dir(const std::string& tag) {
+  struct Dir {
+    std::string path;
+    explicit Dir(std::string p) : path(std::move(p)) { std::filesystem::create_directories(path); }
+    ~Dir() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static std::vector<std::unique_ptr<Dir>> dirs;  // destroyed (and removed) at exit
+  const std::string path = ::testing::TempDir() + "archwave_" + tag + "_" + std::to_string(::getpid()) + "/";
+  for (const auto& d : dirs)
+    if (d->path == path) return path;
+  dirs.push_back(std::make_unique<Dir>(path));
+  return path;
+}
+
+// Writes `bytes` to `dir` + `name` (creating its folders) and returns the path.
+inline std::string write_scratch_file(const std::string& dir, const std::string& name, const std::string& bytes) {
+  const std::string path = dir + name;
+  std::filesystem::create_directories(std::filesystem::path(path).parent_path());
+  std::ofstream f(path, std::ios::binary);
+  f.write(bytes.data(), std::streamsize(bytes.size()));
+  return path;
+}
 
 // Absolute path of a fixture under tests/scene/data.
 inline std::string data_path(const std::string& name) {

@@ -202,7 +202,7 @@ TEST(Tangents, SphereHasAnalyticTangentsAlongIncreasingU) {
   // The sphere's documented mapping: u is the longitude from +X, increasing towards -Z (z =
   // -sin(theta) sin(phi)), i.e. counter-clockwise seen from +Y. dP/du is then parallel to
   // up x (p - center), also at the poles where it is the limit along the vertex's longitude.
-  const aw::Scene s = aw::load_scene(data_path("good_small.json"), {"objects[0].center=[1, 2, 3]"});
+  const aw::Scene s = aw::load_scene(data_path("good_small.json"), {"objects[0].center=[1, 2, 3]", "objects[0].segments=[128, 64]"});
   const aw::TriangleMesh& m = s.meshes[0];
   ASSERT_EQ(m.tangents.size(), m.positions.size());
   expect_valid_frames(m.tangents, [&](size_t v) { return m.normals[v]; }, "sphere");
