@@ -129,8 +129,7 @@ ReflectionGpu pack_reflection(const ReflectionDesc& r, float refraction_ior) {
   return g;
 }
 
-MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, float exposure_k, const std::string& name,
-                          std::vector<std::string>* warnings) {
+MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, float exposure_k) {
   MaterialGpu g;
   std::memset(&g, 0, sizeof(g));
   put3(g.diffuse_color, d.diffuse.color);
@@ -253,9 +252,7 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   }
 
   for (size_t i = 0; i < scene.materials.size(); ++i) {
-    const std::string& name = i < scene.material_names.size() ? scene.material_names[i] : std::to_string(i);
-    ps.materials.push_back(
-        pack_material(scene.materials[i], scene.render, exposure_scale(scene.camera.exposure), name, warnings));
+    ps.materials.push_back(pack_material(scene.materials[i], scene.render, exposure_scale(scene.camera.exposure)));
     pack_material_textures(scene, scene.materials[i], &ps.materials.back(), &ps.tex_bindings);
   }
   if (!ps.tex_bindings.empty()) {

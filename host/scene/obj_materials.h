@@ -15,30 +15,26 @@
 namespace aw {
 namespace scene_detail {
 
-struct ObjImport {
-  // One primitive per material that some triangle uses, in order of first use in the file;
-  // material -1 gathers the triangles without one (no usemtl before them, or a usemtl name
-  // that no loaded library defines). Each is de-indexed like load_obj's mesh (unique
-  // (position, normal, uv) corners in order of first use within the primitive), in the OBJ's
-  // own space, UVs as the file has them (OBJ's v points up the image, as TextureDesc expects).
-  // A primitive keeps normals (UVs) when every corner of its triangles has a valid one, so a
-  // textured part keeps its UVs even when another part has none. Empty when the file has no
-  // triangles.
-  std::vector<GltfPrimitive> primitives;
-  // Every material the mtllib files define, in the order they are defined (libraries in the
-  // order the OBJ names them); a name defined twice keeps its first definition (warning).
-  // The names are the MTL's own ("OBJFILE#name" is the caller's).
-  std::vector<std::string> material_names;
-  // Same order and size as material_names. MaterialDesc::textures is left empty: a material's
-  // texture inputs are bindings[i], whose TextureRef::texture indexes `textures` below (to be
-  // offset when these are appended to Scene::textures).
-  std::vector<MaterialDesc> materials;
-  std::vector<TextureBindings> bindings;
-  // Decoded by load_texture_file, one per distinct (image file, colour space, -s / -o / -clamp)
-  // that some material uses. Named after the file as the MTL writes it ("tex/wood.png", then
-  // "tex/wood.png (2)", ... for further forms); `source` is the resolved path.
-  std::vector<TextureDesc> textures;
-};
+// An OBJ read with its MTL libraries has the shape of a glTF import (gltf_mesh.h), so the
+// scene loader takes both the same way. What the fields hold for an OBJ:
+//   primitives: one per material that some triangle uses, in order of first use in the file;
+//     material -1 gathers the triangles without one (no usemtl before them, or a usemtl name
+//     that no loaded library defines). Each is de-indexed like load_obj's mesh (unique
+//     (position, normal, uv) corners in order of first use within the primitive), in the OBJ's
+//     own space, UVs as the file has them (OBJ's v points up the image, as TextureDesc
+//     expects). A primitive keeps normals (UVs) when every corner of its triangles has a valid
+//     one, so a textured part keeps its UVs even when another part has none. Empty when the
+//     file has no triangles.
+//   material_names: every material the mtllib files define, in the order they are defined
+//     (libraries in the order the OBJ names them); a name defined twice keeps its first
+//     definition (warning). The names are the MTL's own ("OBJFILE#name" is the caller's).
+//   materials, bindings: as for glTF; MaterialDesc::textures is left empty, bindings[i] index
+//     `textures` (to be offset when these are appended to Scene::textures).
+//   textures: decoded by load_texture_file, one per distinct (image file, colour space, -s / -o
+//     / -clamp) that some material uses, named after the file as the MTL writes it
+//     ("tex/wood.png", then "tex/wood.png (2)", ... for further forms); `source` is the
+//     resolved path.
+using ObjImport = GltfImport;
 
 // Reads an OBJ and the MTL files its `mtllib` statements name, relative to the OBJ's folder;
 // texture maps are relative to the folder of the .mtl that names them. The OBJ is checked

@@ -482,8 +482,8 @@ using GltfMaterials = std::map<std::string, std::vector<uint32_t>>;
 
 // Adds a glTF file's materials and textures to the scene (names "FILE#material"); returns the
 // scene's material index of each, the default material last.
-std::vector<uint32_t> add_gltf_materials(LoadContext& ctx, const Node& file_node, const std::string& file,
-                                         GltfImport& g, std::map<std::string, uint32_t>& material_index, Scene& scene) {
+std::vector<uint32_t> add_gltf_materials(const std::string& file, GltfImport& g,
+                                         std::map<std::string, uint32_t>& material_index, Scene& scene) {
   const uint32_t texture_base = uint32_t(scene.textures.size());
   for (TextureDesc& t : g.textures) {
     t.name = file + "#" + t.name;
@@ -508,8 +508,6 @@ std::vector<uint32_t> add_gltf_materials(LoadContext& ctx, const Node& file_node
     add(file + "#" + g.material_names[i], std::move(m));
   }
   add(file + "#default", MaterialDesc{});
-  (void)ctx;
-  (void)file_node;
   return ids;
 }
 
@@ -568,17 +566,11 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
       // An OBJ without a "material" key takes its .mtl materials (docs/obj-mtl.md), through
       // the same path as a glTF file's.
       if (!has(n, "material")) {
-        ObjImport obj;
         std::vector<std::string> obj_warnings;
-        if (!load_obj_with_materials(resolved, &obj, &error, &obj_warnings))
+        if (!load_obj_with_materials(resolved, &gltf, &error, &obj_warnings))
           ctx.fail(file_node.path, "cannot load mesh \"" + resolved + "\": " + error);
         for (const std::string& w : obj_warnings) ctx.warn(file_node.path, "mesh \"" + resolved + "\": " + w);
-        if (obj.primitives.empty()) ctx.fail(file_node.path, "mesh \"" + resolved + "\" has no triangles");
-        gltf.primitives = std::move(obj.primitives);
-        gltf.material_names = std::move(obj.material_names);
-        gltf.materials = std::move(obj.materials);
-        gltf.bindings = std::move(obj.bindings);
-        gltf.textures = std::move(obj.textures);
+        if (gltf.primitives.empty()) ctx.fail(file_node.path, "mesh \"" + resolved + "\" has no triangles");
         gltf_file = resolved;
         break;
       }
@@ -684,7 +676,7 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
     } else {
       auto it = gltf_materials.find(gltf_file);
       if (it == gltf_materials.end())
-        it = gltf_materials.emplace(gltf_file, add_gltf_materials(ctx, n, gltf_file, gltf, material_index, scene)).first;
+        it = gltf_materials.emplace(gltf_file, add_gltf_materials(gltf_file, gltf, material_index, scene)).first;
       ids = it->second;
     }
     std::vector<TriangleMesh> meshes;
