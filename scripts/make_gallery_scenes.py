@@ -456,6 +456,120 @@ def spheres_100k():
     return daylight(mats, objects, {"position": [0, 5, 32], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 40}, spp=64)
 
 
+# A forest of instances: two trees (a conifer of jagged stacked cones, 21,000 triangles, and a
+# broadleaf whose crown is a displaced sphere, 18,000) placed 6,000 times with random turns and
+# sizes, a fifth of the broadleaves in autumn colours (another material: another prototype),
+# under sun and sky. 120 M triangles as rendered, a few MB as stored (docs/scene-format.md,
+# "Instancing"). The meshes and the scene are written by main() but not committed (.gitignore).
+def write_mesh_obj(path, verts, normals, faces, comment):
+    lines = ["# " + comment + ", written by scripts/make_gallery_scenes.py"]
+    lines += ["v %.5f %.5f %.5f" % v for v in verts]
+    lines += ["vn %.4f %.4f %.4f" % n for n in normals]
+    lines += ["f %d//%d %d//%d %d//%d" % (a + 1, a + 1, b + 1, b + 1, c + 1, c + 1) for a, b, c in faces]
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def grid_surface(point, nu, nv, verts, normals, faces, closed_u=True):
+    """Vertices point(u, v) on an (nu x nv) grid, u around (closed), v along; smooth normals
+    from the grid's central differences; two triangles per cell, counter-clockwise outside."""
+    base = len(verts)
+    cols = nu if closed_u else nu + 1
+    grid = [[point(i / nu, j / nv) for i in range(cols)] for j in range(nv + 1)]
+    def normal(i, j):
+        a = grid[j][(i + 1) % cols if closed_u else min(i + 1, cols - 1)]
+        b = grid[j][(i - 1) % cols if closed_u else max(i - 1, 0)]
+        c = grid[min(j + 1, nv)][i]
+        d = grid[max(j - 1, 0)][i]
+        du = [a[k] - b[k] for k in range(3)]
+        dv = [c[k] - d[k] for k in range(3)]
+        n = [du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]]
+        ln = math.sqrt(sum(x * x for x in n))
+        return tuple(-x / ln for x in n) if ln > 1e-12 else None
+    for j in range(nv + 1):
+        for i in range(cols):
+            # A row collapsed to a point (an apex, a pole, a disc's centre) has no tangent
+            # along u: it takes the normal of the nearest row that has one.
+            n = normal(i, j)
+            for dj in range(1, nv + 1):
+                if n is not None:
+                    break
+                n = normal(i, min(max(j - dj if j > 0 else j + dj, 0), nv))
+            verts.append(tuple(grid[j][i]))
+            normals.append(n or (0.0, 1.0, 0.0))
+    for j in range(nv):
+        for i in range(nu):
+            i1 = (i + 1) % cols if closed_u else i + 1
+            a, b = base + j * cols + i, base + j * cols + i1
+            c, d = base + (j + 1) * cols + i1, base + (j + 1) * cols + i
+            faces.append((a, c, b))
+            faces.append((a, d, c))
+
+
+def conifer(path):
+    rnd = random.Random(3)
+    verts, normals, faces = [], [], []
+    grid_surface(lambda u, v: (0.12 * (1 - 0.5 * v) * math.cos(2 * math.pi * u), 1.2 * v,
+                               0.12 * (1 - 0.5 * v) * math.sin(2 * math.pi * u)), 24, 6, verts, normals, faces)
+    jag = [rnd.uniform(0.75, 1.0) for _ in range(96)]
+    for k in range(5):
+        y0, h, r0 = 0.9 + 0.75 * k, 1.6 - 0.12 * k, 1.5 - 0.25 * k
+        def cone(u, v, y0=y0, h=h, r0=r0):
+            i = int(round(u * 96)) % 96
+            r = r0 * (1 - v) * (jag[i] if v < 0.999 else 1.0) * (1 - 0.15 * math.sin(6 * math.pi * v))
+            return (r * math.cos(2 * math.pi * u), y0 + h * v, r * math.sin(2 * math.pi * u))
+        grid_surface(cone, 96, 20, verts, normals, faces)
+        # The cone's underside, a disc, so the tree is closed.
+        grid_surface(lambda u, v, y0=y0, r0=r0: (r0 * jag[int(round(u * 96)) % 96] * (1 - v) * math.cos(-2 * math.pi * u),
+                                                  y0, r0 * jag[int(round(u * 96)) % 96] * (1 - v) * math.sin(-2 * math.pi * u)),
+                     96, 1, verts, normals, faces)
+    write_mesh_obj(path, verts, normals, faces, "conifer")
+    return len(faces)
+
+
+def broadleaf(path):
+    verts, normals, faces = [], [], []
+    grid_surface(lambda u, v: (0.16 * (1 - 0.4 * v) * math.cos(2 * math.pi * u), 2.2 * v,
+                               0.16 * (1 - 0.4 * v) * math.sin(2 * math.pi * u)), 24, 8, verts, normals, faces)
+    def crown(u, v):
+        th, ph = math.pi * (1 - v), 2 * math.pi * u
+        bump = 1 + 0.12 * math.sin(7 * ph + 3 * th) * math.sin(5 * th) + 0.06 * math.sin(19 * ph) * math.sin(13 * th)
+        r = 1.5 * bump
+        return (r * math.sin(th) * math.cos(ph), 3.3 + 1.25 * r * math.cos(th), r * math.sin(th) * math.sin(ph))
+    grid_surface(crown, 128, 70, verts, normals, faces)
+    write_mesh_obj(path, verts, normals, faces, "broadleaf tree")
+    return len(faces)
+
+
+def forest():
+    rnd = random.Random(5)
+    mats = {
+        "ground": {"diffuse": {"color": [0.22, 0.2, 0.12]}, "reflection": {"weight": 0}},
+        "bark": {"diffuse": {"color": [0.25, 0.16, 0.1]}, "reflection": {"weight": 0}},
+        "needles": {"diffuse": {"color": [0.05, 0.16, 0.06]}, "reflection": {"weight": 0.15, "glossiness": 0.4}},
+        "leaves": {"diffuse": {"color": [0.12, 0.3, 0.06]}, "translucency": {"weight": 0.3, "color": [0.4, 0.7, 0.2]},
+                   "reflection": {"weight": 0.1, "glossiness": 0.5}},
+        "autumn": {"diffuse": {"color": [0.55, 0.22, 0.04]}, "translucency": {"weight": 0.3, "color": [0.8, 0.4, 0.1]},
+                   "reflection": {"weight": 0.1, "glossiness": 0.5}},
+    }
+    meshes = {"conifer": {"file": "../meshes/tree_conifer.obj", "material": "needles"},
+              "broadleaf": {"file": "../meshes/tree_broadleaf.obj", "material": "leaves"}}
+    objects = [{"shape": "quad", "corner": [-200, 0, 200], "edge_u": [400, 0, 0], "edge_v": [0, 0, -400], "material": "ground"}]
+    for _ in range(6000):
+        x, z = rnd.uniform(-60, 60), rnd.uniform(-110, 10)
+        kind = "conifer" if rnd.random() < 0.55 else "broadleaf"
+        s = round(rnd.uniform(0.7, 1.4), 3)
+        inst = {"shape": "instance", "mesh": kind,
+                "transform": {"scale": [s, round(s * rnd.uniform(0.85, 1.2), 3), s], "rotate": [0, round(rnd.uniform(0, 360), 1), 0],
+                              "translate": [round(x, 2), 0, round(z, 2)]}}
+        if kind == "broadleaf" and rnd.random() < 0.2:
+            inst["material"] = "autumn"
+        objects.append(inst)
+    sc = daylight(mats, objects, {"position": [0, 6, 24], "look_at": [0, 2, 0], "up": [0, 1, 0], "fov": 45}, spp=64)
+    sc["meshes"] = meshes
+    return sc
+
+
 def main():
     import make_gltf_interior  # imports this module for write_png: loaded lazily
     make_gltf_interior.main()
@@ -475,7 +589,12 @@ def main():
     with open(os.path.join(OUT, "spheres_100k.json"), "w") as f:
         json.dump(spheres_100k(), f, separators=(",", ":"))
         f.write("\n")
-    print("wrote %d scenes to %s" % (len(EXAMPLES) + 1, os.path.normpath(OUT)))
+    conifer(os.path.join(MESHES, "tree_conifer.obj"))
+    broadleaf(os.path.join(MESHES, "tree_broadleaf.obj"))
+    with open(os.path.join(OUT, "forest.json"), "w") as f:
+        json.dump(forest(), f, separators=(",", ":"))
+        f.write("\n")
+    print("wrote %d scenes to %s" % (len(EXAMPLES) + 2, os.path.normpath(OUT)))
 
 
 if __name__ == "__main__":

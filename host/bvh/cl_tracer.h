@@ -21,7 +21,7 @@ static_assert(sizeof(RayIn) == 32, "RayIn is two float4 on the device");
 class ClTracer {
  public:
   ClTracer(ClRuntime& rt, const FlatBvh& bvh, const std::string& kernel_dir = "");
-  // Traces all rays; returns one hit per ray (prim = -1 for a miss). *seconds gets the
+  // Traces all rays; returns one hit per ray (prim = -1 for a miss, inst = AW_NONE outside instances). *seconds gets the
   // kernel time only (upload and download excluded), when given.
   std::vector<TriangleHit> trace(const std::vector<RayIn>& rays, bool any_hit, double* seconds = nullptr);
 
@@ -29,7 +29,7 @@ class ClTracer {
   ClRuntime& rt_;
   cl::Program program_;
   cl::Kernel kernel_;
-  cl::Buffer nodes_, tris_;
+  cl::Buffer nodes_, tris_, insts_;
   uint32_t num_nodes_;
 };
 

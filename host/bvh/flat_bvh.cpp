@@ -68,12 +68,20 @@ void* create_leaf(RTCThreadLocalAllocator alloc, const RTCBuildPrimitive* prims,
 struct Flattener {
   const TriangleSoup& soup;
   FlatBvh& out;
+  const std::vector<RTCBounds>& inst_bounds;  // world bounds per instance (ids after the spheres)
 
   RTCBounds tri_bounds(const uint32_t* ids, uint32_t n) const {
     RTCBounds b;
     b.lower_x = b.lower_y = b.lower_z = std::numeric_limits<float>::infinity();
     b.upper_x = b.upper_y = b.upper_z = -std::numeric_limits<float>::infinity();
     for (uint32_t i = 0; i < n; ++i) {
+      if (ids[i] >= soup.primitive_count()) {  // an instance
+        const RTCBounds& ib = inst_bounds[ids[i] - soup.primitive_count()];
+        b.lower_x = std::min(b.lower_x, ib.lower_x); b.upper_x = std::max(b.upper_x, ib.upper_x);
+        b.lower_y = std::min(b.lower_y, ib.lower_y); b.upper_y = std::max(b.upper_y, ib.upper_y);
+        b.lower_z = std::min(b.lower_z, ib.lower_z); b.upper_z = std::max(b.upper_z, ib.upper_z);
+        continue;
+      }
       if (ids[i] >= soup.indices.size()) {  // an analytic sphere
         const glm::vec4& s = soup.spheres[ids[i] - soup.indices.size()];
         b.lower_x = std::min(b.lower_x, s.x - s.w); b.upper_x = std::max(b.upper_x, s.x + s.w);
@@ -95,6 +103,15 @@ struct Flattener {
   int emit_leaf(const uint32_t* ids, uint32_t n) {
     int first = int(out.leaf_tris.size());
     for (uint32_t i = 0; i < n; ++i) {
+      if (ids[i] >= soup.primitive_count()) {  // an instance (kernels/types/bvh.h)
+        LeafTriangle lt;
+        std::memset(&lt, 0, sizeof(lt));
+        const uint32_t k = uint32_t(ids[i] - soup.primitive_count()), mark = AW_LEAF_INSTANCE;
+        std::memcpy(&lt.v0[3], &k, 4);
+        std::memcpy(&lt.v1[3], &mark, 4);
+        out.leaf_tris.push_back(lt);
+        continue;
+      }
       if (ids[i] >= soup.indices.size()) {  // an analytic sphere (kernels/types/bvh.h)
         const glm::vec4& s = soup.spheres[ids[i] - soup.indices.size()];
         LeafTriangle lt;
@@ -189,28 +206,15 @@ EmbreeDevice::EmbreeDevice() {
 
 EmbreeDevice::~EmbreeDevice() { rtcReleaseDevice(device_); }
 
-FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
-  FlatBvh out;
-  size_t n = soup.primitive_count();
-  if (n == 0) return out;
-  if (n >= (size_t(1) << 28)) throw std::runtime_error("too many primitives for the BVH leaf encoding (2^28)");
+namespace {
 
+// Builds one tree over `prims` with Embree and flattens it onto the end of out.nodes and
+// out.leaf_tris (global indices, so several trees share the arrays); returns its root's index
+// and the tree's depth. Adds the build and flattening times to `out`.
+int build_tree(const EmbreeDevice& device, std::vector<RTCBuildPrimitive>& prims, Flattener& f, int* depth) {
+  FlatBvh& out = f.out;
+  const size_t n = prims.size();
   auto t0 = std::chrono::steady_clock::now();
-  std::vector<RTCBuildPrimitive> prims(n);
-  for (size_t i = soup.indices.size(); i < n; ++i) {
-    const glm::vec4& s = soup.spheres[i - soup.indices.size()];
-    RTCBuildPrimitive& p = prims[i];
-    p.lower_x = s.x - s.w; p.lower_y = s.y - s.w; p.lower_z = s.z - s.w; p.geomID = 0;
-    p.upper_x = s.x + s.w; p.upper_y = s.y + s.w; p.upper_z = s.z + s.w; p.primID = unsigned(i);
-  }
-  for (size_t i = 0; i < soup.indices.size(); ++i) {
-    const glm::uvec3& t = soup.indices[i];
-    glm::vec3 a = soup.positions[t.x], b = soup.positions[t.y], c = soup.positions[t.z];
-    glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
-    RTCBuildPrimitive& p = prims[i];
-    p.lower_x = lo.x; p.lower_y = lo.y; p.lower_z = lo.z; p.geomID = 0;
-    p.upper_x = hi.x; p.upper_y = hi.y; p.upper_z = hi.z; p.primID = unsigned(i);
-  }
   RTCBVH bvh = rtcNewBVH(device.get());
   RTCBuildArguments args = rtcDefaultBuildArguments();
   args.byteSize = sizeof(args);
@@ -243,9 +247,9 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
                              std::to_string(int(rtcGetDeviceError(device.get()))) + ")");
   }
   auto t1 = std::chrono::steady_clock::now();
-  out.nodes.reserve(n);
-  out.leaf_tris.reserve(n);
-  Flattener f{soup, out};
+  const int depth_before = out.max_depth;
+  out.max_depth = 0;
+  const int index = int(out.nodes.size());
   if (root->leaf) {
     // A one-leaf tree still needs an inner root: the leaf (or the subtree an oversized leaf
     // became) in slot 0, the other slots empty (see bvh.h).
@@ -253,14 +257,114 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
     int leaf = f.child_ref(root->prims, root->count, 1);
     BvhNode node = Flattener::empty_node();
     Flattener::put_child(node, 0, f.tri_bounds(root->prims, root->count), leaf);
-    out.nodes[0] = node;
+    out.nodes[size_t(index)] = node;
   } else {
     f.emit(root, 0);
   }
+  *depth = out.max_depth;
+  out.max_depth = depth_before;
   rtcReleaseBVH(bvh);
   auto t2 = std::chrono::steady_clock::now();
-  out.build_seconds = std::chrono::duration<double>(t1 - t0).count();
-  out.flatten_seconds = std::chrono::duration<double>(t2 - t1).count();
+  out.build_seconds += std::chrono::duration<double>(t1 - t0).count();
+  out.flatten_seconds += std::chrono::duration<double>(t2 - t1).count();
+  return index;
+}
+
+RTCBuildPrimitive triangle_prim(const TriangleSoup& soup, size_t i) {
+  const glm::uvec3& t = soup.indices[i];
+  glm::vec3 a = soup.positions[t.x], b = soup.positions[t.y], c = soup.positions[t.z];
+  glm::vec3 lo = glm::min(a, glm::min(b, c)), hi = glm::max(a, glm::max(b, c));
+  RTCBuildPrimitive p;
+  p.lower_x = lo.x; p.lower_y = lo.y; p.lower_z = lo.z; p.geomID = 0;
+  p.upper_x = hi.x; p.upper_y = hi.y; p.upper_z = hi.z; p.primID = unsigned(i);
+  return p;
+}
+
+}  // namespace
+
+void instance_bounds(const TriangleSoup& soup, size_t instance, glm::vec3* lo, glm::vec3* hi) {
+  const InstanceGpu& in = soup.instances[instance];
+  const SoupPrototype& pr = soup.prototypes[in.prototype];
+  glm::vec3 plo(std::numeric_limits<float>::max()), phi(-std::numeric_limits<float>::max());
+  for (uint32_t i = pr.first_tri; i < pr.first_tri + pr.tri_count; ++i)
+    for (int k = 0; k < 3; ++k) {
+      plo = glm::min(plo, soup.positions[soup.indices[i][k]]);
+      phi = glm::max(phi, soup.positions[soup.indices[i][k]]);
+    }
+  *lo = glm::vec3(std::numeric_limits<float>::max());
+  *hi = glm::vec3(-std::numeric_limits<float>::max());
+  for (int c = 0; c < 8; ++c) {
+    const glm::vec3 p((c & 1) ? phi.x : plo.x, (c & 2) ? phi.y : plo.y, (c & 4) ? phi.z : plo.z);
+    const float* m = in.o2w;
+    // In double, then widened by a float ulp or so, so the box holds the triangles the
+    // traversal transforms in float.
+    glm::dvec3 q(double(m[0]) * p.x + double(m[1]) * p.y + double(m[2]) * p.z + m[3],
+                 double(m[4]) * p.x + double(m[5]) * p.y + double(m[6]) * p.z + m[7],
+                 double(m[8]) * p.x + double(m[9]) * p.y + double(m[10]) * p.z + m[11]);
+    *lo = glm::min(*lo, glm::vec3(q));
+    *hi = glm::max(*hi, glm::vec3(q));
+  }
+  const glm::vec3 pad = (glm::abs(*lo) + glm::abs(*hi)) * 1e-6f;
+  *lo -= pad;
+  *hi += pad;
+}
+
+FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
+  FlatBvh out;
+  const size_t n_top = soup.world_tris() + soup.spheres.size() + soup.instances.size();
+  if (n_top == 0) return out;
+  if (soup.primitive_count() + soup.instances.size() >= (size_t(1) << 28))
+    throw std::runtime_error("too many primitives for the BVH leaf encoding (2^28)");
+
+  // The top-level tree: world triangles, spheres and instances (ids after the spheres').
+  std::vector<RTCBounds> inst_bounds(soup.instances.size());
+  for (size_t k = 0; k < soup.instances.size(); ++k) {
+    glm::vec3 lo, hi;
+    instance_bounds(soup, k, &lo, &hi);
+    inst_bounds[k] = RTCBounds{lo.x, lo.y, lo.z, 0.0f, hi.x, hi.y, hi.z, 0.0f};
+  }
+  std::vector<RTCBuildPrimitive> prims;
+  prims.reserve(n_top);
+  for (size_t i = 0; i < soup.world_tris(); ++i) prims.push_back(triangle_prim(soup, i));
+  for (size_t i = 0; i < soup.spheres.size(); ++i) {
+    const glm::vec4& s = soup.spheres[i];
+    RTCBuildPrimitive p;
+    p.lower_x = s.x - s.w; p.lower_y = s.y - s.w; p.lower_z = s.z - s.w; p.geomID = 0;
+    p.upper_x = s.x + s.w; p.upper_y = s.y + s.w; p.upper_z = s.z + s.w; p.primID = unsigned(soup.indices.size() + i);
+    prims.push_back(p);
+  }
+  for (size_t k = 0; k < soup.instances.size(); ++k) {
+    const RTCBounds& b = inst_bounds[k];
+    RTCBuildPrimitive p;
+    p.lower_x = b.lower_x; p.lower_y = b.lower_y; p.lower_z = b.lower_z; p.geomID = 0;
+    p.upper_x = b.upper_x; p.upper_y = b.upper_y; p.upper_z = b.upper_z; p.primID = unsigned(soup.primitive_count() + k);
+    prims.push_back(p);
+  }
+  out.nodes.reserve(soup.primitive_count());
+  out.leaf_tris.reserve(soup.primitive_count() + soup.instances.size());
+  Flattener f{soup, out, inst_bounds};
+  int top_depth = 0;
+  build_tree(device, prims, f, &top_depth);
+  out.max_depth = top_depth;
+
+  // One tree per prototype, after it in the same arrays; each instance points at its root.
+  std::vector<int> roots(soup.prototypes.size(), 0);
+  for (size_t p = 0; p < soup.prototypes.size(); ++p) {
+    const SoupPrototype& pr = soup.prototypes[p];
+    if (pr.tri_count == 0) throw std::runtime_error("a shared mesh without triangles");
+    prims.clear();
+    for (uint32_t i = pr.first_tri; i < pr.first_tri + pr.tri_count; ++i) prims.push_back(triangle_prim(soup, i));
+    int depth = 0;
+    roots[p] = build_tree(device, prims, f, &depth);
+    out.max_prototype_depth = std::max(out.max_prototype_depth, depth);
+  }
+  // The traversal's stack holds at most 3 entries per inner node on the way down plus the
+  // rest of the leaf an instance sits in (kernels/bvh/traverse.h).
+  if (!soup.instances.empty() && 3 * (top_depth + 1 + out.max_prototype_depth + 1) + 1 > AW_BVH_STACK_SIZE)
+    throw std::runtime_error("the two-level BVH is deeper (" + std::to_string(top_depth + 1) + " + " +
+                             std::to_string(out.max_prototype_depth + 1) + " levels) than the traversal stack allows");
+  out.instances = soup.instances;
+  for (InstanceGpu& in : out.instances) in.root = uint32_t(roots[in.prototype]);
   return out;
 }
 
@@ -323,14 +427,45 @@ void sphere_occluded(const RTCOccludedFunctionNArguments* args) {
   }
 }
 
+struct CutoutUser {
+  const TextureScene* ts;
+  uint32_t base;  // the geometry's first triangle id (a prototype's primIDs count from 0)
+};
+
 void cutout_filter(const RTCFilterFunctionNArguments* args) {
-  const TextureScene* ts = static_cast<const TextureScene*>(args->geometryUserPtr);
+  const auto* cu = static_cast<const CutoutUser*>(args->geometryUserPtr);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
-    if (!material_opaque_at(*ts, prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
+    const unsigned prim = cu->base + RTCHitN_primID(args->hit, args->N, i);
+    if (!material_opaque_at(*cu->ts, prim, RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)))
       args->valid[i] = 0;
   }
+}
+
+// A triangle geometry over triangles [first, first + count) of the soup, their vertices
+// copied into Embree's own (padded) buffer and renumbered from 0.
+RTCGeometry triangle_geometry(RTCDevice device, const TriangleSoup& soup, size_t first, size_t count) {
+  RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  uint32_t vlo = std::numeric_limits<uint32_t>::max(), vhi = 0;
+  for (size_t i = first; i < first + count; ++i)
+    for (int k = 0; k < 3; ++k) {
+      vlo = std::min(vlo, soup.indices[i][k]);
+      vhi = std::max(vhi, soup.indices[i][k]);
+    }
+  const size_t nv = size_t(vhi - vlo) + 1;
+  // Embree reads 16 bytes per vertex with SSE: allocate through Embree (which pads).
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), nv));
+  for (size_t i = 0; i < nv; ++i) {
+    v[3 * i + 0] = soup.positions[vlo + i].x;
+    v[3 * i + 1] = soup.positions[vlo + i].y;
+    v[3 * i + 2] = soup.positions[vlo + i].z;
+  }
+  auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                             3 * sizeof(unsigned), count));
+  for (size_t i = 0; i < count; ++i)
+    for (int k = 0; k < 3; ++k) idx[3 * i + k] = soup.indices[first + i][k] - vlo;
+  return geom;
 }
 }  // namespace
 
@@ -340,35 +475,25 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup, c
     cutouts_ = *cutouts;
     has_cutouts_ = true;
   }
-  scene_ = rtcNewScene(device.get());
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-  if (!soup.indices.empty()) {
-    RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree reads 16 bytes per vertex with SSE: allocate through Embree (which pads).
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                          3 * sizeof(float), soup.positions.size()));
-    for (size_t i = 0; i < soup.positions.size(); ++i) {
-      v[3 * i + 0] = soup.positions[i].x;
-      v[3 * i + 1] = soup.positions[i].y;
-      v[3 * i + 2] = soup.positions[i].z;
-    }
-    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                               3 * sizeof(unsigned), soup.indices.size()));
-    for (size_t i = 0; i < soup.indices.size(); ++i) {
-      idx[3 * i + 0] = soup.indices[i].x;
-      idx[3 * i + 1] = soup.indices[i].y;
-      idx[3 * i + 2] = soup.indices[i].z;
-    }
+  // Stable addresses for the filter's user data: one per triangle geometry.
+  cutout_geoms_.reserve(soup.prototypes.size() + 1);
+  auto add_triangles = [&](RTCScene scene, size_t first, size_t count) {
+    RTCGeometry geom = triangle_geometry(device.get(), soup, first, count);
     if (cutouts) {
-      rtcSetGeometryUserData(geom, &cutouts_);
+      cutout_geoms_.push_back(CutoutGeom{&cutouts_, uint32_t(first)});
+      rtcSetGeometryUserData(geom, &cutout_geoms_.back());
       rtcSetGeometryIntersectFilterFunction(geom, cutout_filter);
       rtcSetGeometryOccludedFilterFunction(geom, cutout_filter);
     }
     rtcCommitGeometry(geom);
-    rtcAttachGeometry(scene_, geom);
+    rtcAttachGeometry(scene, geom);
     rtcReleaseGeometry(geom);
-  }
+  };
+  static_assert(sizeof(CutoutGeom) == sizeof(CutoutUser), "the filter reads CutoutGeom as CutoutUser");
+  scene_ = rtcNewScene(device.get());
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  if (soup.world_tris() > 0) add_triangles(scene_, 0, soup.world_tris());
   if (!soup.spheres.empty()) {
     RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(geom, unsigned(soup.spheres.size()));
@@ -380,11 +505,33 @@ EmbreeScene::EmbreeScene(const EmbreeDevice& device, const TriangleSoup& soup, c
     sphere_geom_ = rtcAttachGeometry(scene_, geom);
     rtcReleaseGeometry(geom);
   }
+  // Instancing (Embree's own two-level scenes): a scene per prototype, in object space, and an
+  // instance geometry per placement with its object-to-world transform.
+  for (const SoupPrototype& pr : soup.prototypes) {
+    RTCScene ps = rtcNewScene(device.get());
+    rtcSetSceneFlags(ps, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(ps, RTC_BUILD_QUALITY_HIGH);
+    add_triangles(ps, pr.first_tri, pr.tri_count);
+    rtcCommitScene(ps);
+    prototype_scenes_.push_back(ps);
+  }
+  for (size_t k = 0; k < soup.instances.size(); ++k) {
+    const InstanceGpu& in = soup.instances[k];
+    RTCGeometry geom = rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(geom, prototype_scenes_[in.prototype]);
+    rtcSetGeometryTransform(geom, 0, RTC_FORMAT_FLOAT3X4_ROW_MAJOR, in.o2w);
+    rtcCommitGeometry(geom);
+    const unsigned id = rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+    if (instance_of_geom_.size() <= id) instance_of_geom_.resize(size_t(id) + 1, AW_NONE);
+    instance_of_geom_[id] = uint32_t(k);
+  }
   rtcCommitScene(scene_);
 }
 
 EmbreeScene::~EmbreeScene() {
   if (scene_) rtcReleaseScene(scene_);
+  for (RTCScene ps : prototype_scenes_) rtcReleaseScene(ps);
 }
 
 EmbreeScene::Hit EmbreeScene::intersect(glm::vec3 org, glm::vec3 dir, float t_min, float t_max) const {
@@ -404,6 +551,7 @@ EmbreeScene::Hit EmbreeScene::intersect(glm::vec3 org, glm::vec3 dir, float t_mi
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &ctx, &rh);
   Hit h;
+  h.inst = AW_NONE;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
     h.t = t_max;
     h.u = h.v = 0.0f;
@@ -412,8 +560,14 @@ EmbreeScene::Hit EmbreeScene::intersect(glm::vec3 org, glm::vec3 dir, float t_mi
     h.t = rh.ray.tfar;
     h.u = rh.hit.u;
     h.v = rh.hit.v;
-    // Spheres' ids follow the triangles' (TriangleSoup).
-    h.prim = int(rh.hit.primID) + (rh.hit.geomID == sphere_geom_ ? int(soup_->indices.size()) : 0);
+    if (rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {
+      // A prototype's triangle: its primID counts from the prototype's first triangle.
+      h.inst = instance_of_geom_[rh.hit.instID[0]];
+      h.prim = int(soup_->prototypes[soup_->instances[h.inst].prototype].first_tri + rh.hit.primID);
+    } else {
+      // Spheres' ids follow the triangles' (TriangleSoup).
+      h.prim = int(rh.hit.primID) + (rh.hit.geomID == sphere_geom_ ? int(soup_->indices.size()) : 0);
+    }
   }
   return h;
 }

@@ -192,8 +192,9 @@ int main(int argc, char** argv) {
     aw::Scene scene = aw::load_scene(scene_path, overrides, limits);
     if (!export_geometry.empty()) {
       const size_t triangles = aw::write_geometry_obj(scene, export_geometry);
-      std::cerr << "wrote " << export_geometry << " (" << scene.meshes.size() << " meshes and " << scene.spheres.size()
-                << " tessellated spheres, " << triangles << " triangles)\n";
+      std::cerr << "wrote " << export_geometry << " (" << scene.meshes.size() << " meshes, " << scene.instances.size()
+                << " instances expanded and " << scene.spheres.size() << " tessellated spheres, " << triangles
+                << " triangles)\n";
       return kOk;
     }
 

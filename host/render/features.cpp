@@ -68,6 +68,7 @@ FeatureSet decide_features(const PackedScene& scene, const RenderSettings& setti
   }
   if (!scene.light_tree.empty()) f.on[FeatureSet::LIGHT_TREE] = true;
   if (!scene.soup.spheres.empty()) f.on[FeatureSet::SPHERE] = true;
+  if (!scene.soup.instances.empty()) f.on[FeatureSet::INSTANCE] = true;
   // The sampler (Sobol' is in every build).
   if (settings.sampler == RenderSettings::Sampler::Independent) f.on[FeatureSet::SAMPLER_INDEPENDENT] = true;
   if (settings.sampler == RenderSettings::Sampler::ZSobol) f.on[FeatureSet::SAMPLER_ZSOBOL] = true;

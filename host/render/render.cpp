@@ -75,6 +75,7 @@ std::string RenderStats::summary() const {
   if (scene_bytes) {
     s << "memory          scene " << format_bytes(scene_bytes) << " (" << triangles << " triangles";
     if (spheres > 0) s << ", " << spheres << " spheres";
+    if (instances > 0) s << ", " << instances << " instances of shared meshes, " << instanced_triangles << " triangles rendered";
     s << ")";
     if (film_bytes) s << ", film " << format_bytes(film_bytes);
     if (device_bytes) s << ", all device buffers " << format_bytes(device_bytes);

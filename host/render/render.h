@@ -49,6 +49,8 @@ struct RenderStats {
   uint32_t pool_size = 0;  // path states in flight (wavefront)
   uint64_t triangles = 0;  // triangles in the scene (BVH input)
   uint64_t spheres = 0;    // analytic spheres (BVH input beside the triangles)
+  uint64_t instances = 0;  // placements of shared meshes (a two-level BVH)
+  uint64_t instanced_triangles = 0;  // triangles as rendered: each instance counts its mesh's
   // Scene data the renderer reads: BVH nodes, leaf triangles, triangle info, vertices,
   // materials, lights (device buffers for the wavefront; the same arrays on the host plus
   // Embree's own BVH, which is not counted, for the scalar path).

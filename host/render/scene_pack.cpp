@@ -194,8 +194,9 @@ MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, float
 
 PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   PackedScene ps;
-  // Geometry: one global vertex and triangle list.
-  for (const TriangleMesh& m : scene.meshes) {
+  // Geometry: one global vertex and triangle list: the world meshes, then each prototype's
+  // parts in their own space (instancing, host/bvh/flat_bvh.h).
+  auto add_mesh = [&](const TriangleMesh& m) {
     uint32_t base = uint32_t(ps.verts.size());
     bool has_n = m.normals.size() == m.positions.size();
     bool has_uv = m.uvs.size() == m.positions.size();
@@ -230,6 +231,30 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
       ps.tri_info.push_back(ti);
       ps.soup.indices.push_back(glm::uvec3(ti.v[0], ti.v[1], ti.v[2]));
     }
+  };
+  for (const TriangleMesh& m : scene.meshes) add_mesh(m);
+  const size_t world_verts = ps.soup.positions.size();
+  for (const MeshPrototype& p : scene.prototypes) {
+    SoupPrototype sp;
+    sp.first_tri = uint32_t(ps.soup.indices.size());
+    for (const TriangleMesh& m : p.parts) add_mesh(m);
+    sp.tri_count = uint32_t(ps.soup.indices.size() - sp.first_tri);
+    ps.soup.prototypes.push_back(sp);
+  }
+  // Instances: both transforms as float 3 x 4 rows (kernels/types/bvh.h), the inverse taken in
+  // double; the root of the prototype's tree is the BVH's to set.
+  for (const MeshInstance& mi : scene.instances) {
+    InstanceGpu in;
+    std::memset(&in, 0, sizeof(in));
+    const glm::dmat4 inv = glm::inverse(mi.transform);
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) {
+        in.o2w[4 * r + c] = float(mi.transform[c][r]);  // glm is column-major
+        in.w2o[4 * r + c] = float(inv[c][r]);
+      }
+    in.prototype = mi.prototype;
+    in.flags = glm::determinant(glm::dmat3(mi.transform)) < 0.0 ? AW_INSTANCE_MIRROR : 0u;
+    ps.soup.instances.push_back(in);
   }
 
   // Analytic spheres (kernels/types/bvh.h): after the triangles, one vertex each (centre and
@@ -266,11 +291,17 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   // Their power is taken through the scene's bounding disc, radius R (half the diagonal of
   // the geometry's bounds; 1 without geometry).
   float scene_radius = 1.0f;
-  if (!ps.soup.positions.empty() || !ps.soup.spheres.empty()) {
+  if (world_verts > 0 || !ps.soup.spheres.empty() || !ps.soup.instances.empty()) {
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const glm::vec3& q : ps.soup.positions) {
-      lo = glm::min(lo, q);
-      hi = glm::max(hi, q);
+    for (size_t i = 0; i < world_verts; ++i) {
+      lo = glm::min(lo, ps.soup.positions[i]);
+      hi = glm::max(hi, ps.soup.positions[i]);
+    }
+    for (size_t k = 0; k < ps.soup.instances.size(); ++k) {
+      glm::vec3 ilo, ihi;
+      instance_bounds(ps.soup, k, &ilo, &ihi);
+      lo = glm::min(lo, ilo);
+      hi = glm::max(hi, ihi);
     }
     for (const glm::vec4& q : ps.soup.spheres) {
       lo = glm::min(lo, glm::vec3(q) - q.w);

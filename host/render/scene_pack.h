@@ -39,10 +39,10 @@ struct PackedScene {
 // scene's features (decide_features) and the parameters that follow from them (split_spp).
 PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings);
 
-// Bytes of the arrays both renderers read besides a BVH (triangle info, vertices, materials,
-// lights): the scene's share of the memory in the stats.
+// Bytes of the arrays both renderers read besides a BVH (instances, triangle info, vertices,
+// materials, lights): the scene's share of the memory in the stats.
 inline size_t packed_arrays_bytes(const PackedScene& p) {
-  return p.tri_info.size() * sizeof(TriangleInfo) + p.verts.size() * sizeof(VertexData) +
+  return p.soup.instances.size() * sizeof(InstanceGpu) + p.tri_info.size() * sizeof(TriangleInfo) + p.verts.size() * sizeof(VertexData) +
          p.materials.size() * sizeof(MaterialGpu) + p.lights.size() * sizeof(LightGpu) + p.env.size() * sizeof(float) +
          p.light_tree.size() * sizeof(LightTreeNode) + p.tri_light.size() * sizeof(uint32_t) +
          p.textures.size() * sizeof(TextureGpu) + p.tex_bindings.size() * sizeof(TexBindingGpu) + p.texels.size();

@@ -41,6 +41,8 @@ nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
       {"state_bytes", st.state_bytes},
       {"triangles", st.triangles},
       {"spheres", st.spheres},
+      {"instances", st.instances},
+      {"instanced_triangles", st.instanced_triangles},
       {"scene_bytes", st.scene_bytes},
       {"film_bytes", st.film_bytes},
       {"device_bytes", st.device_bytes},

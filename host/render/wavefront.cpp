@@ -150,13 +150,14 @@ class Wavefront {
         if (off == FeatureSet::name(i)) features_.on[i] = false;
     st_.kernel_features = opts_.generic_kernels ? "generic (every feature)" : "specialised: " + features_.describe();
     // Material features are checked at every hit (classify_hit), lobe splitting where it
-    // starts (shade_surface); light types, the sampler and analytic spheres have no such check
-    // in the kernels (a compiled-out light type would be sampled as another one, a
-    // compiled-out sampler falls through to Sobol', spheres would be tested as triangles), so
-    // the host refuses the build here.
+    // starts (shade_surface); light types, the sampler, analytic spheres and instances have no
+    // such check in the kernels (a compiled-out light type would be sampled as another one, a
+    // compiled-out sampler falls through to Sobol', spheres would be tested as triangles,
+    // instances never entered), so the host refuses the build here.
     std::string lack;
     for (int i : {FeatureSet::LIGHT_POINT, FeatureSet::LIGHT_QUAD, FeatureSet::LIGHT_DISK, FeatureSet::LIGHT_SPHERE,
                   FeatureSet::LIGHT_SUN, FeatureSet::ENV_MAP, FeatureSet::LIGHT_MESH, FeatureSet::LIGHT_TREE, FeatureSet::SPHERE,
+                  FeatureSet::INSTANCE,
                   FeatureSet::SAMPLER_INDEPENDENT, FeatureSet::SAMPLER_ZSOBOL})
       if (need.on[i] && !features_.on[i]) lack += std::string(lack.empty() ? "" : ", ") + FeatureSet::name(i);
     if (!lack.empty())
@@ -208,6 +209,7 @@ class Wavefront {
                          bvh_.nodes.empty() ? nullptr : bvh_.nodes.data());
     b.tris = rt_.buffer("BVH leaf triangles", bvh_.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,
                         bvh_.leaf_tris.empty() ? nullptr : bvh_.leaf_tris.data());
+    b.insts = bvh_.instances.empty() ? rt_.buffer("instances", sizeof(InstanceGpu)) : upload(rt_, "instances", bvh_.instances);
     b.tri_info = upload(rt_, "triangle info", packed_.tri_info);
     b.verts = upload(rt_, "vertices", packed_.verts);
     b.materials = upload(rt_, "materials", packed_.materials);
@@ -230,6 +232,8 @@ class Wavefront {
     if (textured) st_.state_bytes += size_t(pool_) * sizeof(MaterialGpu);
     st_.triangles = packed_.soup.indices.size();
     st_.spheres = packed_.soup.spheres.size();
+    st_.instances = packed_.soup.instances.size();
+    st_.instanced_triangles = scene_.rendered_triangle_count();
     st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
                       packed_arrays_bytes(packed_);
     st_.film_bytes = size_t(npix_) * (3 + 1) * 4 + size_t(max_batch_) * 3 * 4;  // film, counts, batch samples

@@ -19,6 +19,7 @@ TriangleHit scene_intersect(SceneRef sc, float3 o, float3 d, float t_min, float 
   h.u = e.u;
   h.v = e.v;
   h.prim = e.prim;
+  h.inst = e.inst;
   return h;
 }
 

@@ -46,6 +46,7 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   sc.textures = packed.textures.data();
   sc.tex_bindings = packed.tex_bindings.data();
   sc.texels = packed.texels.data();
+  sc.insts = packed.soup.instances.data();  // the transforms (the roots are the flattened BVH's)
   sc.mat_resolved = nullptr;  // each thread's own (worker)
 
   auto t_bvh = Clock::now();
@@ -56,6 +57,8 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   st.bvh_seconds = since(t_bvh);
   st.triangles = packed.soup.indices.size();
   st.spheres = packed.soup.spheres.size();
+  st.instances = packed.soup.instances.size();
+  st.instanced_triangles = scene.rendered_triangle_count();
   st.scene_bytes = packed_arrays_bytes(packed);  // Embree's BVH is Embree's business, not counted
   const HostRayCaster caster{&escene};
   sc.caster = &caster;

@@ -35,19 +35,27 @@ size_t write_geometry_obj(const Scene& scene, const std::string& path) {
     t.name = sd.name;
     spheres.push_back(std::move(t));
   }
-  size_t triangles = scene.triangle_count();
+  size_t triangles = scene.rendered_triangle_count();
   for (const TriangleMesh& t : spheres) triangles += t.indices.size();
+  // Instances are written expanded: each placement's copy of its mesh in world space (an OBJ
+  // has no instancing), made one at a time as it is written.
+  auto placed = [&](const MeshInstance& mi, const TriangleMesh& part) {
+    TriangleMesh t = scene_detail::place_mesh(part, mi.transform);
+    t.name = mi.name + ", " + part.name;
+    return t;
+  };
+  size_t mesh_count = scene.meshes.size() + spheres.size();
+  for (const MeshInstance& mi : scene.instances) mesh_count += scene.prototypes[mi.prototype].parts.size();
   const std::string tmp = path + ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) fail(path, std::strerror(errno));
   std::fprintf(f, "# archwave geometry of %s: %zu meshes, %zu triangles, world space\n", scene.path.c_str(),
-               scene.meshes.size() + spheres.size(), triangles);
+               mesh_count, triangles);
   size_t base = 1, nbase = 1;  // OBJ indices are 1-based and global, per kind (v, vn)
   std::vector<const TriangleMesh*> all;
   for (const TriangleMesh& m : scene.meshes) all.push_back(&m);
   for (const TriangleMesh& m : spheres) all.push_back(&m);
-  for (const TriangleMesh* mp : all) {
-    const TriangleMesh& m = *mp;
+  auto write_mesh = [&](const TriangleMesh& m) {
     std::fprintf(f, "o %s\nusemtl %s\n", m.name.c_str(), scene.material_names.at(m.material).c_str());
     for (const auto& p : m.positions) std::fprintf(f, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
     const bool smooth = !m.normals.empty();
@@ -61,7 +69,10 @@ size_t write_geometry_obj(const Scene& scene, const std::string& path) {
     }
     base += m.positions.size();
     nbase += m.normals.size();
-  }
+  };
+  for (const TriangleMesh* mp : all) write_mesh(*mp);
+  for (const MeshInstance& mi : scene.instances)
+    for (const TriangleMesh& part : scene.prototypes[mi.prototype].parts) write_mesh(placed(mi, part));
   const bool ok = !std::ferror(f);
   if (std::fclose(f) != 0 || !ok) {
     std::remove(tmp.c_str());

@@ -233,6 +233,9 @@ bool finalize_mesh(const DMesh& in, const glm::dmat4& transform, TriangleMesh* o
   }
   out->uvs.reserve(in.uvs.size());
   for (const glm::dvec2& uv : in.uvs) out->uvs.emplace_back(uv);
+  out->uvs2.clear();
+  out->uvs2.reserve(in.uvs2.size());
+  for (const glm::dvec2& uv : in.uvs2) out->uvs2.emplace_back(uv);
   // Tangents are tangent vectors (dP/du), so they transform like positions' differences, by
   // M itself; that keeps them orthogonal to the inverse-transpose normals, (M t)·(M^-T n) =
   // t·n = 0 (up to rounding, removed by one Gram-Schmidt step). The handedness compares
@@ -258,6 +261,22 @@ bool finalize_mesh(const DMesh& in, const glm::dmat4& transform, TriangleMesh* o
     for (glm::uvec3& t : out->indices) std::swap(t.y, t.z);
   }
   return true;
+}
+
+TriangleMesh place_mesh(const TriangleMesh& part, const glm::dmat4& transform) {
+  DMesh d;
+  for (const glm::vec3& p : part.positions) d.positions.emplace_back(p);
+  for (const glm::vec3& n : part.normals) d.normals.emplace_back(n);
+  for (const glm::vec2& uv : part.uvs) d.uvs.emplace_back(uv);
+  for (const glm::vec2& uv : part.uvs2) d.uvs2.emplace_back(uv);
+  for (const glm::vec4& t : part.tangents) d.tangents.emplace_back(t);
+  d.indices = part.indices;
+  TriangleMesh t;
+  finalize_mesh(d, transform, &t);  // finite: the loader checked the placed bounds
+  t.material = part.material;
+  t.name = part.name;
+  t.light_sampling = part.light_sampling;
+  return t;
 }
 
 }  // namespace scene_detail

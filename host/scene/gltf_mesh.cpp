@@ -677,9 +677,9 @@ class Importer {
       return fail(ms.name + ": " + property + " refers to texture " + std::to_string(info.index) +
                   ", but the file has " + std::to_string(model_.textures.size()) + " textures");
     }
-    if (info.tex_coord != 0) {
+    if (info.tex_coord > 1) {
       mat_warn(ms, std::string(property) + " uses texCoord " + std::to_string(info.tex_coord) +
-                       "; archwave meshes carry one UV set, TEXCOORD_0 is used");
+                       "; archwave meshes carry two UV sets (TEXCOORD_0 and TEXCOORD_1), TEXCOORD_0 is used");
     }
     uint32_t id = 0;
     bool usable = false;
@@ -690,6 +690,7 @@ class Importer {
     r.channel = channel;
     r.multiplier = multiplier;
     r.offset = offset;
+    r.uv_set = info.tex_coord == 1 ? 1 : 0;
     ms.bindings[key] = r;
     if (bound) *bound = true;
     return true;
@@ -1344,7 +1345,7 @@ class Importer {
       return it == p.attributes.end() ? std::numeric_limits<int>::min() : it->second;
     };
     const int pos_a = attr("POSITION"), nrm_a = attr("NORMAL"), uv_a = attr("TEXCOORD_0"),
-              tan_a = attr("TANGENT");
+              uv2_a = attr("TEXCOORD_1"), tan_a = attr("TANGENT");
     constexpr int kNone = std::numeric_limits<int>::min();
     if (pos_a == kNone) {
       warn(name + ": no POSITION attribute; skipped");
@@ -1354,7 +1355,7 @@ class Importer {
     if (!p.targets.empty()) warn("morph targets are ignored (the base shapes are used)");
     if (attr("COLOR_0") != kNone) warn("vertex colours (COLOR_0) are ignored");
 
-    Accessor pos, nrm, uv, tan;
+    Accessor pos, nrm, uv, uv2, tan;
     if (!open_accessor(pos_a, TINYGLTF_TYPE_VEC3, "POSITION of " + name, &pos)) return false;
     const size_t nv = size_t(pos.count);
     auto open_attribute = [&](int a, int type, const char* key, Accessor* r) {
@@ -1368,6 +1369,7 @@ class Importer {
     };
     if (!open_attribute(nrm_a, TINYGLTF_TYPE_VEC3, "NORMAL", &nrm) ||
         !open_attribute(uv_a, TINYGLTF_TYPE_VEC2, "TEXCOORD_0", &uv) ||
+        !open_attribute(uv2_a, TINYGLTF_TYPE_VEC2, "TEXCOORD_1", &uv2) ||
         !open_attribute(tan_a, TINYGLTF_TYPE_VEC4, "TANGENT", &tan)) {
       return false;
     }
@@ -1480,6 +1482,13 @@ class Importer {
       for (uint32_t v : order) {
         if (!element(uv, v, e)) return false;
         m.uvs.emplace_back(e[0], 1.0 - e[1]);
+      }
+    }
+    if (uv2_a != kNone) {  // the second UV set, flipped the same way
+      m.uvs2.reserve(order.size());
+      for (uint32_t v : order) {
+        if (!element(uv2, v, e)) return false;
+        m.uvs2.emplace_back(e[0], 1.0 - e[1]);
       }
     }
     // glTF 2.0 §3.7.2.1: without normals, tangents MUST be ignored.

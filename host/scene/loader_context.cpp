@@ -207,7 +207,7 @@ namespace {
 }  // namespace
 
 TextureRef read_texture_ref(const LoadContext& ctx, const Node& n, bool colour) {
-  expect_object(ctx, n, {"texture", "channel", "multiplier", "offset"});
+  expect_object(ctx, n, {"texture", "channel", "multiplier", "offset", "uv_set"});
   const Node name_node = child(n, "texture");
   const std::string name = read_string(ctx, name_node);
   TextureRef r;
@@ -235,6 +235,8 @@ TextureRef read_texture_ref(const LoadContext& ctx, const Node& n, bool colour) 
   if (off.j) r.offset = static_cast<float>(read_number(ctx, off));
   if (!std::isfinite(r.multiplier) || !std::isfinite(r.offset))
     ctx.fail(n.path, "multiplier and offset must be finite numbers");
+  const Node set = child(n, "uv_set");
+  if (set.j) r.uv_set = read_int_in(ctx, set, 0, 1);
   return r;
 }
 

@@ -33,6 +33,7 @@ struct DMesh {
   std::vector<glm::dvec3> positions;
   std::vector<glm::dvec3> normals;  // empty or one per position
   std::vector<glm::dvec2> uvs;      // empty or one per position
+  std::vector<glm::dvec2> uvs2;     // the second UV set (glTF TEXCOORD_1): empty or one per position
   // Empty or one per position: analytic tangent along increasing u (unit, orthogonal to the
   // normal) and handedness w = ±1, as TriangleMesh::tangents.
   std::vector<glm::dvec4> tangents;
@@ -68,6 +69,10 @@ bool is_singular(const glm::dmat4& m);
 // with the shading normals) and converts to float. Returns false if a position, normal or
 // tangent is not finite afterwards.
 bool finalize_mesh(const DMesh& in, const glm::dmat4& transform, TriangleMesh* out);
+
+// A copy of `part` (a prototype's, in its own space) carried to world space by `transform`,
+// as finalize_mesh carries a mesh it loads; material and light sampling kept.
+TriangleMesh place_mesh(const TriangleMesh& part, const glm::dmat4& transform);
 
 // Reads an OBJ file (tinyobjloader, triangulated) into `out`, de-indexing the separate
 // position/normal/uv indices into unique vertex tuples in order of first use. Returns false

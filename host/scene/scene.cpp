@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -57,7 +58,7 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
   expect_object(ctx, n,
                 {"width", "height", "spp", "seed", "max_depth", "reflection_depth",
                  "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp", "rr_depth", "sampler",
-                 "light_selection"});
+                 "light_selection", "instancing"});
   // 65536 per side is far beyond any film we write and keeps width * height in range.
   if_present(n, "width", [&](const Node& c) { r->width = read_int_in(ctx, c, 1, 65536); });
   if_present(n, "height", [&](const Node& c) { r->height = read_int_in(ctx, c, 1, 65536); });
@@ -92,6 +93,7 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
     r->clamp = static_cast<float>(read_number_in(ctx, c, Range{0, kInf}));
   });
   if_present(n, "rr_depth", [&](const Node& c) { r->rr_depth = read_int_in(ctx, c, 0, kMaxInt); });
+  if_present(n, "instancing", [&](const Node& c) { r->instancing = read_bool(ctx, c); });
   if_present(n, "light_selection", [&](const Node& c) {
     r->light_selection = read_enum<RenderSettings::LightSelection>(
         ctx, c, {{"auto", RenderSettings::LightSelection::Auto},
@@ -511,27 +513,44 @@ std::vector<uint32_t> add_gltf_materials(const std::string& file, GltfImport& g,
   return ids;
 }
 
+// How parse_object reads a mesh that instancing shares (docs/scene-format.md#instancing).
+struct MeshOptions {
+  // A "meshes" entry: the shape is a mesh without saying so; keys file, material, transform;
+  // named `definition` in messages.
+  std::string definition;
+  // The parts in the mesh file's own space: the transform is the instances' (read by the caller).
+  bool object_space = false;
+  // The material for every part instead of the node's own "material" (an instance's).
+  const Node* material = nullptr;
+};
+
 std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t index,
                                        std::map<std::string, uint32_t>& material_index, Scene& scene,
-                                       GltfMaterials& gltf_materials) {
+                                       GltfMaterials& gltf_materials, const MeshOptions& opts = {}) {
   const std::vector<std::string>& material_names = scene.material_names;
   expect_object_any_keys(ctx, n);
-  const Node shape_node = require(ctx, n, "shape");
   enum class Shape { Mesh, Sphere, Quad, Disk, Box };
-  const Shape shape = read_enum<Shape>(ctx, shape_node,
-                                       {{"mesh", Shape::Mesh},
-                                        {"sphere", Shape::Sphere},
-                                        {"quad", Shape::Quad},
-                                        {"disk", Shape::Disk},
-                                        {"box", Shape::Box}});
-  const std::vector<std::string> common = {"shape", "material", "transform", "light_sampling"};
+  const bool definition = !opts.definition.empty();
+  const Node shape_node = definition ? Node{nullptr, ""} : require(ctx, n, "shape");
+  const Shape shape = definition ? Shape::Mesh
+                                 : read_enum<Shape>(ctx, shape_node,
+                                                    {{"mesh", Shape::Mesh},
+                                                     {"sphere", Shape::Sphere},
+                                                     {"quad", Shape::Quad},
+                                                     {"disk", Shape::Disk},
+                                                     {"box", Shape::Box}});
+  const std::vector<std::string> common = definition ? std::vector<std::string>{"material", "transform"}
+                                                     : std::vector<std::string>{"shape", "material", "transform",
+                                                                                "light_sampling"};
   auto keys = [&](std::initializer_list<const char*> extra) {
     std::vector<std::string> all = common;
     for (const char* k : extra) all.push_back(k);
     return all;
   };
-  const std::string shape_name = shape_node.j->get<std::string>();
-  std::string name = "objects[" + std::to_string(index) + "] (" + shape_name;
+  const std::string shape_name = definition ? "mesh" : shape_node.j->get<std::string>();
+  std::string name = definition ? opts.definition + " (mesh" : "objects[" + std::to_string(index) + "] (" + shape_name;
+  const bool has_material = opts.material || has(n, "material");
+  const Node material_node = opts.material ? *opts.material : has_material ? child(n, "material") : Node{nullptr, ""};
 
   DMesh mesh;
   bool analytic_sphere = false;  // a sphere that may stay one primitive (decided below)
@@ -565,7 +584,7 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
       }
       // An OBJ without a "material" key takes its .mtl materials (docs/obj-mtl.md), through
       // the same path as a glTF file's.
-      if (!has(n, "material")) {
+      if (!has_material) {
         std::vector<std::string> obj_warnings;
         if (!load_obj_with_materials(resolved, &gltf, &error, &obj_warnings))
           ctx.fail(file_node.path, "cannot load mesh \"" + resolved + "\": " + error);
@@ -654,7 +673,7 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
   name += ")";
 
   glm::dmat4 transform(1.0);
-  if_present(n, "transform", [&](const Node& c) { transform = parse_transform(ctx, c); });
+  if (!opts.object_space) if_present(n, "transform", [&](const Node& c) { transform = parse_transform(ctx, c); });
   bool light_sampling = false;
   if_present(n, "light_sampling", [&](const Node& c) { light_sampling = read_bool(ctx, c); });
 
@@ -663,8 +682,8 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
   if (!gltf_file.empty()) {
     std::vector<uint32_t> ids;
     uint32_t forced = AW_NONE;
-    if (has(n, "material")) {
-      const Node mat_node = child(n, "material");
+    if (has_material) {
+      const Node mat_node = material_node;
       const std::string material = read_string(ctx, mat_node);
       const auto found = material_index.find(material);
       if (found == material_index.end()) {
@@ -695,7 +714,7 @@ std::vector<TriangleMesh> parse_object(LoadContext& ctx, const Node& n, size_t i
   }
 
   // The material is checked after the shape so that the message can name the object fully.
-  const Node mat_node = require(ctx, n, "material");
+  const Node mat_node = has_material ? material_node : require(ctx, n, "material");
   const std::string material = read_string(ctx, mat_node);
   const auto found = material_index.find(material);
   if (found == material_index.end()) {
@@ -823,7 +842,7 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
   scene.path = path;
   const Node root{&doc.root, ""};
   expect_object(ctx, root,
-                {"render", "camera", "environment", "lights", "textures", "materials", "objects"});
+                {"render", "camera", "environment", "lights", "textures", "materials", "meshes", "objects"});
 
   if_present(root, "render", [&](const Node& c) { parse_render(ctx, c, &scene.render); });
   if_present(root, "camera", [&](const Node& c) { parse_camera(ctx, c, &scene.camera); });
@@ -886,11 +905,123 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
     fixed_bytes += uint64_t(262144) * sizeof(MaterialGpu);
   check_memory(ctx, "render", limits, fixed_bytes, 0);
   GltfMaterials gltf_materials;
+  // Instancing (docs/scene-format.md#instancing). The "meshes" section names meshes that
+  // "instance" objects place; mesh objects that differ only in their transform share one
+  // prototype too. Prototypes are loaded on first use, in the file's own space.
+  std::map<std::string, Node> mesh_defs;
+  std::map<std::string, bool> mesh_def_used;
+  if_present(root, "meshes", [&](const Node& c) {
+    expect_object_any_keys(ctx, c);
+    for (const auto& item : c.j->items()) {
+      const Node d = child(c, item.key());
+      if (item.key().empty()) ctx.fail(d.path, "mesh names must not be empty");
+      expect_object(ctx, d, {"file", "material", "transform"});
+      require(ctx, d, "file");
+      mesh_defs.emplace(item.key(), d);
+      mesh_def_used[item.key()] = false;
+    }
+  });
+  std::map<std::string, size_t> share_count;  // mesh objects by everything but their transform
+  auto share_key = [](const Json& j) -> std::string {
+    if (!j.is_object() || !j.contains("shape") || j["shape"] != "mesh") return std::string();
+    if (j.contains("light_sampling") && j["light_sampling"] == true) return std::string();  // lights stay apart
+    nlohmann::json sorted = nlohmann::json::parse(j.dump());  // key order does not matter
+    sorted.erase("transform");
+    return sorted.dump();
+  };
+  if (const Node objs = child(root, "objects"); objs.j && objs.j->is_array())
+    for (const Json& j : *objs.j)
+      if (std::string k = share_key(j); !k.empty()) ++share_count[k];
+  std::map<std::string, uint32_t> prototype_of;  // share key or "meshes" name + material
+  std::vector<std::pair<glm::dvec3, glm::dvec3>> prototype_box;  // object-space bounds
+  // Places prototype `key` (loading it with `load` the first time) with `transform`.
+  auto place = [&](const std::string& key, const std::string& proto_name, const std::string& inst_name,
+                   const glm::dmat4& transform, const std::string& at, const std::function<std::vector<TriangleMesh>()>& load) {
+    auto it = prototype_of.find(key);
+    if (it == prototype_of.end()) {
+      MeshPrototype p;
+      p.name = proto_name;
+      p.parts = load();
+      glm::dvec3 lo(kInf), hi(-kInf);
+      for (const TriangleMesh& m : p.parts)
+        for (const glm::vec3& q : m.positions) {
+          lo = glm::min(lo, glm::dvec3(q));
+          hi = glm::max(hi, glm::dvec3(q));
+        }
+      triangles += p.triangle_count();
+      it = prototype_of.emplace(key, uint32_t(scene.prototypes.size())).first;
+      scene.prototypes.push_back(std::move(p));
+      prototype_box.emplace_back(lo, hi);
+    }
+    // The placed mesh must stay finite (the loader's check on every flattened vertex).
+    const auto& [lo, hi] = prototype_box[it->second];
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 q(transform * glm::dvec4((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z, 1.0));
+      const glm::vec3 f(q);
+      if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z))
+        ctx.fail(at, inst_name + " places its mesh outside the range of single precision (a coordinate is infinite after the transform)");
+    }
+    MeshInstance mi;
+    mi.prototype = it->second;
+    mi.transform = transform;
+    mi.name = inst_name;
+    scene.instances.push_back(std::move(mi));
+    triangles += 1;  // an instance's memory: about one triangle's (InstanceGpu and its BVH share)
+  };
   if_present(root, "objects", [&](const Node& c) {
     expect_array(ctx, c);
     for (size_t i = 0; i < c.j->size(); ++i) {
       const Node obj = element(c, i);
       check_memory(ctx, obj.path, limits, fixed_bytes, triangles + builtin_triangles(obj));
+      // An explicit instance of a "meshes" entry.
+      if (obj.j->is_object() && obj.j->contains("shape") && (*obj.j)["shape"] == "instance") {
+        expect_object(ctx, obj, {"shape", "mesh", "transform", "material"});
+        const Node mesh_node = require(ctx, obj, "mesh");
+        const std::string mesh = read_string(ctx, mesh_node);
+        const auto def = mesh_defs.find(mesh);
+        if (def == mesh_defs.end()) {
+          std::vector<std::string> names;
+          for (const auto& d : mesh_defs) names.push_back(d.first);
+          const std::string hint = closest(mesh, names);
+          ctx.fail(mesh_node.path, "objects[" + std::to_string(i) + "] (instance) places unknown mesh \"" + mesh + "\"" +
+                                       (names.empty() ? std::string(" (the scene has no \"meshes\" section)")
+                                        : hint.empty() ? std::string()
+                                                       : " (did you mean \"" + hint + "\"?)"));
+        }
+        mesh_def_used[mesh] = true;
+        glm::dmat4 transform(1.0), def_transform(1.0);
+        if_present(obj, "transform", [&](const Node& t) { transform = parse_transform(ctx, t); });
+        if_present(def->second, "transform", [&](const Node& t) { def_transform = parse_transform(ctx, t); });
+        const Node mat = child(obj, "material");
+        const std::string mat_name = mat.j ? read_string(ctx, mat) : std::string();
+        const std::string label = "meshes." + mesh + (mat.j ? " with material \"" + mat_name + "\"" : std::string());
+        place("meshes\n" + mesh + "\n" + mat_name, label,
+              "objects[" + std::to_string(i) + "] (instance of " + label + ")", transform * def_transform,
+              has(obj, "transform") ? join_key(obj.path, "transform") : obj.path,
+              [&] {
+                MeshOptions o;
+                o.definition = "meshes." + mesh;
+                o.object_space = true;
+                o.material = mat.j ? &mat : nullptr;
+                return parse_object(ctx, def->second, i, material_index, scene, gltf_materials, o);
+              });
+        check_memory(ctx, obj.path, limits, fixed_bytes, triangles);
+        continue;
+      }
+      // A mesh object that others repeat with another transform: shared.
+      if (const std::string key = share_key(*obj.j); !key.empty() && share_count[key] >= 2) {
+        glm::dmat4 transform(1.0);
+        if_present(obj, "transform", [&](const Node& t) { transform = parse_transform(ctx, t); });
+        const std::string file = (*obj.j).contains("file") && (*obj.j)["file"].is_string() ? (*obj.j)["file"].get<std::string>() : "";
+        const std::string oname = "objects[" + std::to_string(i) + "] (mesh " + file + ")";
+        place(key, oname, oname, transform, has(obj, "transform") ? join_key(obj.path, "transform") : obj.path, [&] {
+          MeshOptions o;
+          o.object_space = true;
+          return parse_object(ctx, obj, i, material_index, scene, gltf_materials, o);
+        });
+        check_memory(ctx, obj.path, limits, fixed_bytes, triangles);
+        continue;
+      }
       const size_t first = scene.meshes.size(), first_sphere = scene.spheres.size();
       for (TriangleMesh& m : parse_object(ctx, obj, i, material_index, scene, gltf_materials)) {
         triangles += m.indices.size();
@@ -924,6 +1055,21 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
                      "\" emits nothing");
     }
   });
+
+  // render.instancing false: every placement becomes a world mesh of its own (memory for
+  // speed: one level of BVH; and the flattened equivalent the tests compare instancing with).
+  if (!scene.render.instancing) {
+    for (const MeshInstance& mi : scene.instances)
+      for (const TriangleMesh& part : scene.prototypes[mi.prototype].parts) {
+        TriangleMesh m = place_mesh(part, mi.transform);
+        m.name = mi.name + (scene.prototypes[mi.prototype].parts.size() > 1 ? ", " + part.name : std::string());
+        scene.meshes.push_back(std::move(m));
+      }
+    scene.instances.clear();
+    scene.prototypes.clear();
+  }
+  for (const auto& [mesh, used] : mesh_def_used)
+    if (!used) ctx.warn(mesh_defs.at(mesh).path, "mesh \"" + mesh + "\" is defined but no instance places it");
 
   scene.warnings = ctx.take_warnings();
   return scene;

@@ -45,6 +45,9 @@ struct RenderSettings {
   // alias table), by the light tree, or auto: the tree from kLightTreeMinLights finite lights on.
   enum class LightSelection { Auto, Power, Tree };
   LightSelection light_selection = LightSelection::Auto;
+  // Meshes placed several times are stored once (a two-level BVH); false stores every
+  // placement as a mesh of its own (docs/scene-format.md#instancing).
+  bool instancing = true;
 };
 
 struct ExposureDesc {
@@ -111,6 +114,9 @@ struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  // per vertex, same size as positions, or empty
   std::vector<glm::vec2> uvs;      // per vertex, same size as positions, or empty
+  // The second UV set (glTF TEXCOORD_1; texture lookups with uv_set 1 read it), or empty:
+  // lookups of set 1 then read set 0.
+  std::vector<glm::vec2> uvs2;
   // Per vertex, same size as positions, or empty: xyz a unit tangent along increasing u,
   // orthogonal to the normal; w = ±1, the handedness (sign of (n × t)·dP/dv). Built-in shapes
   // carry their analytic tangents; OBJ meshes none: they are generated when a material
@@ -135,6 +141,25 @@ struct SphereDesc {
   std::string name;
 };
 
+// A mesh shared by several placements (instancing, docs/scene-format.md#instancing): its
+// parts (one per material, as a mesh object's) in the mesh file's own space, stored once.
+struct MeshPrototype {
+  std::string name;  // "meshes.tree" or "objects[3] (mesh meshes/chair.obj)", for messages and stats
+  std::vector<TriangleMesh> parts;
+  size_t triangle_count() const {
+    size_t n = 0;
+    for (const auto& m : parts) n += m.indices.size();
+    return n;
+  }
+};
+
+// One placement of a prototype: its object-to-world transform (affine, invertible).
+struct MeshInstance {
+  uint32_t prototype = 0;
+  glm::dmat4 transform{1.0};
+  std::string name;
+};
+
 struct Scene {
   std::string path;  // the scene file as given
   RenderSettings render;
@@ -144,13 +169,25 @@ struct Scene {
   std::vector<std::string> material_names;  // same order as materials
   std::vector<MaterialDesc> materials;
   std::vector<TextureDesc> textures;  // the "textures" section (and those glTF files bring)
-  std::vector<TriangleMesh> meshes;
+  std::vector<TriangleMesh> meshes;  // world space, each stored once
   std::vector<SphereDesc> spheres;
+  // Instancing: meshes stored once in their own space, placed by instances.
+  std::vector<MeshPrototype> prototypes;
+  std::vector<MeshInstance> instances;
   std::vector<std::string> warnings;  // already printed once by load_scene; kept for tests
 
+  // Triangles stored: the world meshes' and each prototype's once.
   size_t triangle_count() const {
     size_t n = 0;
     for (const auto& m : meshes) n += m.indices.size();
+    for (const auto& p : prototypes) n += p.triangle_count();
+    return n;
+  }
+  // Triangles as rendered: each instance counts its prototype's.
+  size_t rendered_triangle_count() const {
+    size_t n = 0;
+    for (const auto& m : meshes) n += m.indices.size();
+    for (const auto& i : instances) n += prototypes[i.prototype].triangle_count();
     return n;
   }
 };

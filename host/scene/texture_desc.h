@@ -58,6 +58,7 @@ struct TextureRef {
   int channel = -1;
   float multiplier = 1.0f;
   float offset = 0.0f;
+  int uv_set = 0;  // 0 or 1: which of the mesh's UV sets the lookup reads (a mesh without set 1 reads set 0)
 };
 
 // A material's texture-bound inputs, keyed by the input's key as docs/material.md names it

@@ -5,6 +5,7 @@
 
 #include "common/compat.h"
 #include "types/bvh.h"
+#include "bvh/instance.h"
 #include "bvh/intersect_sphere.h"
 #include "bvh/intersect_triangle.h"
 #include "common/features.h"
@@ -14,6 +15,7 @@ typedef struct {
   float t;
   float u, v;
   int prim;  // original triangle id, -1 = no hit
+  uint inst; // the instance it belongs to (types/bvh.h, InstanceGpu), AW_NONE for world geometry
 } TriangleHit;
 
 // Reciprocal direction with zero components replaced by a huge finite value of the same
@@ -40,6 +42,29 @@ AW_FN float4 max4_nn(float4 a, float4 b) {
 #endif
 }
 
+// The ray as one traversal level sees it: origin, and for the slab tests the broadcast origin
+// and reciprocal direction; for the triangle test the shear (intersect_triangle.h).
+typedef struct {
+  float3 org, dir;
+  float4 ox, oy, oz, ix, iy, iz;
+  RayShear shear;
+} TraversalRay;
+
+AW_FN TraversalRay traversal_ray_make(float3 org, float3 dir) {
+  TraversalRay r;
+  r.org = org;
+  r.dir = dir;
+  float3 inv = make_float3(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z));
+  r.shear = ray_shear_make(dir);
+  r.ox = make_float4(org.x, org.x, org.x, org.x);
+  r.oy = make_float4(org.y, org.y, org.y, org.y);
+  r.oz = make_float4(org.z, org.z, org.z, org.z);
+  r.ix = make_float4(inv.x, inv.x, inv.x, inv.x);
+  r.iy = make_float4(inv.y, inv.y, inv.y, inv.y);
+  r.iz = make_float4(inv.z, inv.z, inv.z, inv.z);
+  return r;
+}
+
 // Closest hit (any_hit = 0) or first hit found (any_hit = 1, for shadow rays) in (t_min, t_max).
 // Each node: the four box tests as SIMD slabs, then the children hit are visited nearest
 // first (the others pushed farthest first, so the stack pops them in order of entry distance).
@@ -52,34 +77,38 @@ AW_FN float4 max4_nn(float4 a, float4 b) {
 // Cutouts: with `cut` non-null, a triangle hit where the material's cutout opacity is below
 // 0.5 is not a hit (texture/material_textures.h, material_opaque_at), so every kind of ray
 // passes through the hole and the traversal goes on as if the triangle were not there.
+// Instances (a two-level BVH, docs/bvh-layout.md#instances): an instance entry in a top-level
+// leaf pushes the rest of its leaf, notes the stack depth, moves the ray into the instance's
+// object space (the direction is transformed, not normalised, so t means the same distance
+// along the ray in both spaces and hit.t keeps bounding the search) and descends into its
+// prototype's tree; when the stack falls back to the noted depth, the world ray is restored.
 AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_nodes,
-                                    const AW_GLOBAL float4* tris, float3 org, float3 dir,
-                                    float t_min, float t_max, int any_hit, const TextureScene* cut) {
+                                    const AW_GLOBAL float4* tris, const AW_GLOBAL InstanceGpu* insts, float3 org,
+                                    float3 dir, float t_min, float t_max, int any_hit, const TextureScene* cut) {
   TriangleHit hit;
   hit.t = t_max;
   hit.u = 0.0f;
   hit.v = 0.0f;
   hit.prim = -1;
+  hit.inst = AW_NONE;
   if (num_nodes == 0) return hit;
 
-  float3 inv = make_float3(safe_rcp(dir.x), safe_rcp(dir.y), safe_rcp(dir.z));
-  RayShear shear = ray_shear_make(dir);
-  const float4 ox = make_float4(org.x, org.x, org.x, org.x), oy = make_float4(org.y, org.y, org.y, org.y),
-               oz = make_float4(org.z, org.z, org.z, org.z);
-  const float4 ix = make_float4(inv.x, inv.x, inv.x, inv.x), iy = make_float4(inv.y, inv.y, inv.y, inv.y),
-               iz = make_float4(inv.z, inv.z, inv.z, inv.z);
+  TraversalRay r = traversal_ray_make(org, dir);
   const float4 tmin4 = make_float4(t_min, t_min, t_min, t_min);
+  uint cur_inst = AW_NONE;  // the instance being traversed
+  int inst_sp = -1;         // the stack depth at which it was entered
 
   int stack[AW_BVH_STACK_SIZE];
   int sp = 0;
   int node = 0;
   for (;;) {
     // Inner nodes: test the four children, descend into the nearest hit, push the others.
+    int at_leaf = 1;
     while (node >= 0) {
       const AW_GLOBAL float4* nd = nodes + (uint)node * 8u;
-      float4 tx0 = (nd[0] - ox) * ix, tx1 = (nd[1] - ox) * ix;
-      float4 ty0 = (nd[2] - oy) * iy, ty1 = (nd[3] - oy) * iy;
-      float4 tz0 = (nd[4] - oz) * iz, tz1 = (nd[5] - oz) * iz;
+      float4 tx0 = (nd[0] - r.ox) * r.ix, tx1 = (nd[1] - r.ox) * r.ix;
+      float4 ty0 = (nd[2] - r.oy) * r.iy, ty1 = (nd[3] - r.oy) * r.iy;
+      float4 tz0 = (nd[4] - r.oz) * r.iz, tz1 = (nd[5] - r.oz) * r.iz;
       float4 tmax4 = make_float4(hit.t, hit.t, hit.t, hit.t);
       float4 tn = max4_nn(max4_nn(min4_nn(tx0, tx1), min4_nn(ty0, ty1)), max4_nn(min4_nn(tz0, tz1), tmin4));
       float4 tf = min4_nn(min4_nn(max4_nn(tx0, tx1), max4_nn(ty0, ty1)), min4_nn(max4_nn(tz0, tz1), tmax4));
@@ -94,9 +123,8 @@ AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_node
       if (tn.z <= tf.z && as_int(ch.z) != AW_BVH_EMPTY) { hn[k] = as_int(ch.z); ht[k] = tn.z; ++k; }
       if (tn.w <= tf.w && as_int(ch.w) != AW_BVH_EMPTY) { hn[k] = as_int(ch.w); ht[k] = tn.w; ++k; }
       if (k == 0) {
-        if (sp == 0) return hit;
-        node = stack[--sp];
-        continue;
+        at_leaf = 0;
+        break;
       }
       // Sort by entry distance, farthest first (insertion sort of at most four; ties keep
       // slot order reversed, so equal distances are visited in slot order).
@@ -116,29 +144,42 @@ AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_node
       node = hn[k - 1];
     }
     // Leaf: ~node = (first << 3) | (count - 1).
-    {
+    if (at_leaf) {
       int packed = ~node;
       int first = packed >> 3;
       int count = (packed & 7) + 1;
+      int entered = 0;
       for (int i = first; i < first + count; ++i) {
         float4 p0 = tris[i * 3 + 0];
         float4 p1 = tris[i * 3 + 1];
         float4 p2 = tris[i * 3 + 2];
         float t, u, v;
+        if (AW_FEAT_INSTANCE && as_uint(p1.w) == AW_LEAF_INSTANCE) {
+          // The rest of this leaf waits on the stack, below the instance's own entries.
+          if (i + 1 < first + count) stack[sp++] = ~(((i + 1) << 3) | (first + count - i - 2));
+          inst_sp = sp;
+          cur_inst = as_uint(p0.w);
+          const AW_GLOBAL InstanceGpu* in = &insts[cur_inst];
+          r = traversal_ray_make(xform_point(in->w2o, org), xform_vector(in->w2o, dir));
+          node = (int)in->root;
+          entered = 1;
+          break;
+        }
         // An analytic sphere (types/bvh.h): its hit's (u, v) is the sphere's UV.
         if (AW_FEAT_SPHERE && as_uint(p1.w) == AW_LEAF_SPHERE) {
-          if (!intersect_sphere(org, dir, make_float3(p0.x, p0.y, p0.z), p1.x, t_min, hit.t, &t)) continue;
+          if (!intersect_sphere(r.org, r.dir, make_float3(p0.x, p0.y, p0.z), p1.x, t_min, hit.t, &t)) continue;
           u = 0.0f;
           v = 0.0f;
-          if (cut && !material_opaque_at_sphere(*cut, as_uint(p0.w), org + dir * t)) continue;
+          if (cut && !material_opaque_at_sphere(*cut, as_uint(p0.w), r.org + r.dir * t)) continue;
           hit.t = t;
           hit.u = u;
           hit.v = v;
           hit.prim = (int)as_uint(p0.w);
+          hit.inst = cur_inst;
           if (any_hit) return hit;
           continue;
         }
-        if (intersect_triangle(org, shear, make_float3(p0.x, p0.y, p0.z),
+        if (intersect_triangle(r.org, r.shear, make_float3(p0.x, p0.y, p0.z),
                                make_float3(p1.x, p1.y, p1.z), make_float3(p2.x, p2.y, p2.z),
                                t_min, hit.t, &t, &u, &v)) {
           if (cut && !material_opaque_at(*cut, as_uint(p0.w), u, v)) continue;
@@ -146,19 +187,28 @@ AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_node
           hit.u = u;
           hit.v = v;
           hit.prim = (int)as_uint(p0.w);
+          hit.inst = cur_inst;
           if (any_hit) return hit;
         }
       }
+      if (entered) continue;
+    }
+    // Back out of an instance whose subtree is done: the world ray again.
+    if (AW_FEAT_INSTANCE && sp == inst_sp) {
+      r = traversal_ray_make(org, dir);
+      cur_inst = AW_NONE;
+      inst_sp = -1;
     }
     if (sp == 0) return hit;
     node = stack[--sp];
   }
 }
 
-// Without cutouts (the BVH tests, the traversal benchmark, scenes without them).
+// Without cutouts (the BVH tests, the traversal benchmark).
 AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes, const AW_GLOBAL float4* tris,
-                                float3 org, float3 dir, float t_min, float t_max, int any_hit) {
-  return bvh_intersect_cut(nodes, num_nodes, tris, org, dir, t_min, t_max, any_hit, 0);
+                                const AW_GLOBAL InstanceGpu* insts, float3 org, float3 dir, float t_min, float t_max,
+                                int any_hit) {
+  return bvh_intersect_cut(nodes, num_nodes, tris, insts, org, dir, t_min, t_max, any_hit, 0);
 }
 
 #endif

@@ -49,6 +49,7 @@
   X(LIGHT_MESH) /* triangles of light-sampled incandescent objects (AW_LIGHT_TRIANGLE) */ \
   X(LIGHT_TREE) /* many lights: the light tree chooses and finds them (lights/light_tree.h) */ \
   X(SPHERE) /* analytic spheres in the BVH (bvh/intersect_sphere.h) */ \
+  X(INSTANCE) /* instances of shared meshes: a two-level BVH (bvh/traverse.h) */ \
   X(SPLIT) /* per-lobe samples split rays at the first hit (integrator/split.h) */ \
   X(SAMPLER_INDEPENDENT) X(SAMPLER_ZSOBOL) /* render.sampler (common/rng.h) */
 

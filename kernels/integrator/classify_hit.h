@@ -15,18 +15,43 @@
 #include "common/ray.h"
 #include "integrator/light_select.h"
 #include "integrator/shading_material.h"
+#include "bvh/instance.h"
 #include "lobes/fog.h"
 #include "material/architectural.h"
 #include "material/lobe_list.h"
 
-AW_FN float3 vertex_position(const AW_GLOBAL VertexData* v) { return make_float3(v->p[0], v->p[1], v->p[2]); }
-AW_FN float3 vertex_normal(const AW_GLOBAL VertexData* v) { return make_float3(v->n[0], v->n[1], v->n[2]); }
+// The vertex in world space, as a private copy: world geometry's own; an instance's (types/bvh.h)
+// with its position, normal and tangent carried through the instance's transform as the loader
+// transforms a mesh it does not share (host/scene/geometry.cpp, finalize_mesh): positions and
+// tangents by the matrix, normals by its inverse transpose, both renormalised, the tangent made
+// orthogonal to the normal again and its handedness flipped by a mirroring transform.
+AW_FN VertexData vertex_world(SceneRef sc, uint inst, uint index) {
+  VertexData v = sc.verts[index];
+  if (!(AW_FEAT_INSTANCE && inst != AW_NONE)) return v;
+  const AW_GLOBAL InstanceGpu* in = &sc.insts[inst];
+  float3 p = xform_point(in->o2w, make_float3(v.p[0], v.p[1], v.p[2]));
+  v.p[0] = p.x; v.p[1] = p.y; v.p[2] = p.z;
+  float3 n = xform_normal(in->w2o, make_float3(v.n[0], v.n[1], v.n[2]));
+  float ln = dot(n, n);
+  if (ln > 0.0f) n = n / sqrt(ln);
+  v.n[0] = n.x; v.n[1] = n.y; v.n[2] = n.z;
+  float3 t = xform_vector(in->o2w, make_float3(v.t[0], v.t[1], v.t[2]));
+  if (v.n[3] != 0.0f) t = t - n * dot(n, t);
+  float lt = dot(t, t);
+  if (lt > 0.0f) t = t / sqrt(lt);
+  v.t[0] = t.x; v.t[1] = t.y; v.t[2] = t.z;
+  if (in->flags & AW_INSTANCE_MIRROR) v.t[3] = -v.t[3];
+  return v;
+}
+
+AW_FN float3 vertex_position(const VertexData* v) { return make_float3(v->p[0], v->p[1], v->p[2]); }
+AW_FN float3 vertex_normal(const VertexData* v) { return make_float3(v->n[0], v->n[1], v->n[2]); }
 
 // Tangent from the UV parametrisation (dP/du of the triangle), made orthogonal to n; falls
 // back to an arbitrary frame where the UVs are degenerate. The anisotropic frame for
 // anisotropy.orientation = "uv" (constant per triangle), and the mesh tangent's fallback.
-AW_FN float3 triangle_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
-                              const AW_GLOBAL VertexData* v2, float3 p0, float3 p1, float3 p2, float3 n) {
+AW_FN float3 triangle_tangent(const VertexData* v0, const VertexData* v1,
+                              const VertexData* v2, float3 p0, float3 p1, float3 p2, float3 n) {
   float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
   float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
   float det = du1 * dv2 - du2 * dv1;
@@ -49,8 +74,8 @@ AW_FN float3 triangle_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL Ve
 // n, to which the blend is not exactly orthogonal. The blend of unit vectors has length
 // <= 1; below 1e-3 after the projection (tangents that cancel, one along n, or zeros where
 // the host generated none) its direction is rounding noise, so the UV frame is used instead.
-AW_FN float3 interpolated_tangent(const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
-                                  const AW_GLOBAL VertexData* v2, float b0, float b1, float b2, float3 p0,
+AW_FN float3 interpolated_tangent(const VertexData* v0, const VertexData* v1,
+                                  const VertexData* v2, float b0, float b1, float b2, float3 p0,
                                   float3 p1, float3 p2, float3 n) {
   float3 t = b0 * make_float3(v0->t[0], v0->t[1], v0->t[2]) + b1 * make_float3(v1->t[0], v1->t[1], v1->t[2]) +
              b2 * make_float3(v2->t[0], v2->t[1], v2->t[2]);
@@ -75,7 +100,7 @@ typedef struct {
 // The shading point of an analytic sphere hit (bvh/intersect_sphere.h): the point projected
 // onto the sphere, normals along the radius (the exact surface: the shading normal is the
 // geometric one), its UV by the sphere's parametrisation.
-AW_FN HitPoint classify_sphere_point(PathRef ps, const AW_GLOBAL VertexData* c, float3 dir) {
+AW_FN HitPoint classify_sphere_point(PathRef ps, const VertexData* c, float3 dir) {
   HitPoint h;
   float3 center = make_float3(c->p[0], c->p[1], c->p[2]);
   float3 w = ps_ray_origin(ps) + dir * PS_F(ps, hit_t) - center;
@@ -93,7 +118,7 @@ AW_FN HitPoint classify_sphere_point(PathRef ps, const AW_GLOBAL VertexData* c, 
 }
 
 // dP/du and dP/dv of an analytic sphere at the hit's UV.
-AW_FN void classify_sphere_dpduv(const AW_GLOBAL VertexData* c, HitPoint h, float3* dpdu, float3* dpdv) {
+AW_FN void classify_sphere_dpduv(const VertexData* c, HitPoint h, float3* dpdu, float3* dpdv) {
   sphere_dpduv(h.uv, c->p[3], make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]), dpdu, dpdv);
 }
 
@@ -157,8 +182,8 @@ AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp,
 // surface) times sqrt(UV area / world area) of the triangle (Akenine-Möller et al. 2019, Ray
 // Tracing Gems ch. 20, eq. 20.2's texel-to-world ratio). Every surface hit widens the cone,
 // textured or not, so that a textured surface seen in a reflection gets the whole path's.
-AW_FN void classify_texture_point(PathRef ps, const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
-                                  const AW_GLOBAL VertexData* v2, HitPoint h, float3 dir) {
+AW_FN void classify_texture_point(PathRef ps, const VertexData* v0, const VertexData* v1,
+                                  const VertexData* v2, HitPoint h, float3 dir) {
   float w = PS_F(ps, cone_w) + PS_F(ps, cone_s) * PS_F(ps, hit_t);
   PS_F(ps, cone_w) = w;
   float cos_v = fmax(fabs(dot(h.ng, dir)), 1e-2f);
@@ -189,8 +214,8 @@ AW_FN void classify_texture_point(PathRef ps, const AW_GLOBAL VertexData* v0, co
 // texture's central differences at the hit's UV over a step of one texel or half the
 // footprint, whichever is larger; the normal before bumping is kept for disable_bump.
 AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu* m, HitPoint h,
-                           const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
-                           const AW_GLOBAL VertexData* v2, float3 dir) {
+                           const VertexData* v0, const VertexData* v1,
+                           const VertexData* v2, float3 dir) {
   PS_F(ps, sp_bx) = h.n.x; PS_F(ps, sp_by) = h.n.y; PS_F(ps, sp_bz) = h.n.z;
   float3 dpdu, dpdv;
   if (AW_FEAT_SPHERE && h.sphere) {
@@ -215,8 +240,10 @@ AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu*
   return bump_keep_reflection_above(nb, h.ng, -dir);
 }
 
-AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
-                                  const AW_GLOBAL VertexData* v2, float3 dir) {
+// `mirrored`: the triangle belongs to an instance whose transform mirrors, which reverses the
+// winding in world space (the loader swaps two corners of a mirrored mesh it flattens instead).
+AW_FN HitPoint classify_hit_point(PathRef ps, const VertexData* v0, const VertexData* v1,
+                                  const VertexData* v2, float3 dir, int mirrored) {
   HitPoint h;
   h.b1 = PS_F(ps, hit_u);
   h.b2 = PS_F(ps, hit_v);
@@ -232,6 +259,7 @@ AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, co
   // Degenerate triangles are never hit by the watertight test, but a nearly degenerate one
   // can be: fall back to facing the ray.
   ng = ng_len2 > 0.0f ? ng / sqrt(ng_len2) : -dir;
+  if (mirrored) ng = -ng;
   float3 nshade = ng;
   int has_n = 0;
   if (v0->n[3] != 0.0f) {
@@ -263,8 +291,8 @@ AW_FN HitPoint classify_hit_point(PathRef ps, const AW_GLOBAL VertexData* v0, co
 // Writes the shading point for the lobe stage; returns the tangent (zero unless the material
 // is anisotropic: only the reflection frame reads it).
 AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGpu* m, uint material, HitPoint h,
-                                          const AW_GLOBAL VertexData* v0, const AW_GLOBAL VertexData* v1,
-                                          const AW_GLOBAL VertexData* v2) {
+                                          const VertexData* v0, const VertexData* v1,
+                                          const VertexData* v2) {
   PS_F(ps, sp_px) = h.p.x; PS_F(ps, sp_py) = h.p.y; PS_F(ps, sp_pz) = h.p.z;
   PS_F(ps, sp_nx) = h.n.x; PS_F(ps, sp_ny) = h.n.y; PS_F(ps, sp_nz) = h.n.z;
   PS_F(ps, sp_gx) = h.ng.x; PS_F(ps, sp_gy) = h.ng.y; PS_F(ps, sp_gz) = h.ng.z;
@@ -354,12 +382,18 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   // 2. The surface it hit.
   const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
   const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
-  const AW_GLOBAL VertexData* v0 = &sc.verts[tri->v[0]];
+  // The vertices in world space (an instance's carried there by its transform).
+  uint inst = PS_U(ps, hit_inst);
+  int mirrored = AW_FEAT_INSTANCE && inst != AW_NONE && (sc.insts[inst].flags & AW_INSTANCE_MIRROR);
   // An analytic sphere (types/bvh.h) has one vertex, its centre: v1 = v2 = v0.
   int sphere = AW_FEAT_SPHERE && tri->v[1] == AW_SPHERE_MARK;
-  const AW_GLOBAL VertexData* v1 = &sc.verts[sphere ? tri->v[0] : tri->v[1]];
-  const AW_GLOBAL VertexData* v2 = &sc.verts[tri->v[2]];
-  HitPoint h = sphere ? classify_sphere_point(ps, v0, dir) : classify_hit_point(ps, v0, v1, v2, dir);
+  VertexData w0 = vertex_world(sc, inst, tri->v[0]);
+  VertexData w1 = vertex_world(sc, inst, sphere ? tri->v[0] : tri->v[1]);
+  VertexData w2 = vertex_world(sc, inst, tri->v[2]);
+  const VertexData* v0 = &w0;
+  const VertexData* v1 = &w1;
+  const VertexData* v2 = &w2;
+  HitPoint h = sphere ? classify_sphere_point(ps, v0, dir) : classify_hit_point(ps, v0, v1, v2, dir, mirrored);
 
   // 3. The feature guard. The host derived the features from this very scene, so this cannot
   // happen; if it does, it is counted and the host refuses the image rather than render it wrong.

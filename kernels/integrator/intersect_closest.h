@@ -14,8 +14,8 @@ AW_FN void intersect_closest(PathRef ps, SceneRef sc, const RenderParams* rp) {
   float t = h.t;
   // Camera rays see only visible lights (light.visible); every later ray sees all of them.
   int light = scene_lights_intersect(sc, rp, o, d, 0.0f, &t, PS_U(ps, bounce) == 0u, -1);
-  if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, (uint)light);
-  else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? (uint)h.prim : AW_NONE, AW_NONE);
+  if (light >= 0) ps_set_hit(ps, t, 0.0f, 0.0f, AW_NONE, AW_NONE, (uint)light);
+  else ps_set_hit(ps, h.t, h.u, h.v, h.prim >= 0 ? (uint)h.prim : AW_NONE, h.prim >= 0 ? h.inst : AW_NONE, AW_NONE);
 }
 
 #endif

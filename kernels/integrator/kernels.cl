@@ -53,7 +53,7 @@
 #define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, rp.pool_size, (slot))
 #define AW_STAGE_SCENE                                                                                          \
   scene_ref_make(tri_info, verts, materials, lights, env, light_tree, tri_light, textures, tex_bindings, texels, \
-                 mat_resolved, nodes, tris, rp.num_nodes)
+                 mat_resolved, nodes, tris, insts, rp.num_nodes)
 #define AW_QUEUE(q) (queues + (uint)(q) * rp.pool_size)
 
 static inline PathRef path_ref_make(__global float* sf, __global uint* su, __global float* snap_f,
@@ -74,7 +74,8 @@ static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, con
                                       const __global uint* tri_light, const __global TextureGpu* textures,
                                       const __global TexBindingGpu* tex_bindings, const __global uchar* texels,
                                       __global MaterialGpu* mat_resolved,
-                                      const __global float4* nodes, const __global float4* tris, uint num_nodes) {
+                                      const __global float4* nodes, const __global float4* tris,
+                                      const __global InstanceGpu* insts, uint num_nodes) {
   SceneRef sc;
   sc.tri_info = tri_info;
   sc.verts = verts;
@@ -89,6 +90,7 @@ static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, con
   sc.mat_resolved = mat_resolved;
   sc.nodes = nodes;
   sc.tris = tris;
+  sc.insts = insts;
   sc.num_nodes = num_nodes;
   return sc;
 }

@@ -71,11 +71,12 @@ AW_FN float3 ps_sp_unbumped_normal(PathRef ps) { return make_float3(PS_F(ps, sp_
 AW_FN float3 ps_sp_geo_normal(PathRef ps) { return make_float3(PS_F(ps, sp_gx), PS_F(ps, sp_gy), PS_F(ps, sp_gz)); }
 
 // Writes the closest hit of the extension ray (both intersectors end here).
-AW_FN void ps_set_hit(PathRef ps, float t, float u, float v, uint prim, uint light) {
+AW_FN void ps_set_hit(PathRef ps, float t, float u, float v, uint prim, uint inst, uint light) {
   PS_F(ps, hit_t) = t;
   PS_F(ps, hit_u) = u;
   PS_F(ps, hit_v) = v;
   PS_U(ps, hit_prim) = prim;
+  PS_U(ps, hit_inst) = inst;
   PS_U(ps, hit_light) = light;
 }
 

@@ -13,11 +13,11 @@
 #if AW_DEVICE
 AW_FN TriangleHit scene_intersect(SceneRef sc, float3 o, float3 d, float t_min, float t_max) {
   TextureScene ts = scene_texture_ref(sc);
-  return bvh_intersect_cut(sc.nodes, sc.num_nodes, sc.tris, o, d, t_min, t_max, 0, AW_FEAT_CUTOUT ? &ts : 0);
+  return bvh_intersect_cut(sc.nodes, sc.num_nodes, sc.tris, sc.insts, o, d, t_min, t_max, 0, AW_FEAT_CUTOUT ? &ts : 0);
 }
 AW_FN int scene_occluded(SceneRef sc, float3 o, float3 d, float t_min, float t_max) {
   TextureScene ts = scene_texture_ref(sc);
-  return bvh_intersect_cut(sc.nodes, sc.num_nodes, sc.tris, o, d, t_min, t_max, 1, AW_FEAT_CUTOUT ? &ts : 0).prim >= 0;
+  return bvh_intersect_cut(sc.nodes, sc.num_nodes, sc.tris, sc.insts, o, d, t_min, t_max, 1, AW_FEAT_CUTOUT ? &ts : 0).prim >= 0;
 }
 #else
 TriangleHit scene_intersect(SceneRef sc, float3 o, float3 d, float t_min, float t_max);

@@ -24,6 +24,9 @@ typedef struct {
   const AW_GLOBAL TextureGpu* textures;       // textures (texture/texture.h), when the scene has them
   const AW_GLOBAL TexBindingGpu* tex_bindings;
   const AW_GLOBAL uchar* texels;
+  // Instances of shared meshes (types/bvh.h): the traversal enters them, the shading takes
+  // their vertices to world space (integrator/classify_hit.h), when the scene has them.
+  const AW_GLOBAL InstanceGpu* insts;
   // Per path slot: the material of the path's shading point with its textures applied
   // (integrator/shading_material.h); the scalar path gives each thread its own.
   AW_GLOBAL MaterialGpu* mat_resolved;

@@ -26,6 +26,7 @@
   BUFFER(uint, film_count)                                                                  \
   BUFFER(float4, nodes)   /* the flattened BVH (kernels/types/bvh.h) */                     \
   BUFFER(float4, tris)                                                                      \
+  BUFFER(InstanceGpu, insts) /* instances of shared meshes (types/bvh.h) */                \
   BUFFER(TriangleInfo, tri_info)                                                            \
   BUFFER(VertexData, verts)                                                                 \
   BUFFER(MaterialGpu, materials)                                                            \

@@ -49,6 +49,7 @@ AW_STATE_U(sample)
 AW_STATE_U(bounce)    /* scattering events so far = index of the vertex being shaded */
 AW_STATE_U(flags)     /* AW_PATH_* */
 AW_STATE_U(hit_prim)  /* original triangle id, or ~0u */
+AW_STATE_U(hit_inst)  /* the instance hit_prim was hit in (types/bvh.h), or ~0u */
 AW_STATE_U(hit_light) /* light index, or ~0u */
 AW_STATE_U(material)
 AW_STATE_U(sh_light)  /* light the shadow ray aims at (it must not occlude itself), or ~0u */

@@ -45,6 +45,26 @@ typedef struct {
   float v2[4];
 } LeafTriangle;
 #define AW_LEAF_SPHERE 1u
+// An instance (two-level BVH, docs/bvh-layout.md#instances) takes the same slot in the top-level
+// tree: v0.w = the instance's index in the instance array (uint bits), v1.w = AW_LEAF_INSTANCE;
+// the traversal moves the ray into the instance's object space and descends into the root of its
+// prototype's tree (InstanceGpu.root), whose leaves hold the prototype's triangles.
+#define AW_LEAF_INSTANCE 2u
+
+// One placement of a shared mesh (a prototype): its transform both ways as row-major 3 x 4
+// matrices (rows x, y, z of [linear | translation]) and the root node of the prototype's own
+// tree in the node array. Object-space hits carry the same t as in world space (the direction is
+// transformed, not normalised). flags: AW_INSTANCE_MIRROR when the transform mirrors (det < 0):
+// the winding, and so the geometric normal's side, flips. 112 bytes.
+typedef struct {
+  float o2w[12];
+  float w2o[12];
+  uint root;
+  uint flags;
+  uint prototype;
+  uint pad;
+} InstanceGpu;
+#define AW_INSTANCE_MIRROR 1u
 
 // An analytic sphere's TriangleInfo: v[0] = the vertex that holds its centre and radius
 // (p = centre, p[3] = radius; n = its x axis, t = its pole axis y: intersect_sphere.h),

@@ -50,4 +50,8 @@ AW_LAYOUT_ENTRY(46, TextureGpu, color1)
 AW_LAYOUT_ENTRY(47, TextureGpu, level_offset)
 AW_LAYOUT_SIZE(48, TexBindingGpu)
 AW_LAYOUT_ENTRY(49, TexBindingGpu, hi)
-#define AW_LAYOUT_COUNT 50
+AW_LAYOUT_SIZE(50, InstanceGpu)
+AW_LAYOUT_ENTRY(51, InstanceGpu, w2o)
+AW_LAYOUT_ENTRY(52, InstanceGpu, root)
+AW_LAYOUT_ENTRY(53, InstanceGpu, pad)
+#define AW_LAYOUT_COUNT 54

@@ -1,6 +1,7 @@
 """Section "Scaling": time vs triangle count (the knot tube regenerated finer and finer),
-memory and time vs sphere count (analytic spheres against tessellated ones), and time and
-memory vs resolution (the Cornell box)."""
+memory and time vs sphere count (analytic spheres against tessellated ones), memory and time vs
+instance count (placements of one shared mesh against the same placements flattened), and time
+and memory vs resolution (the Cornell box)."""
 
 import json
 import os
@@ -115,6 +116,71 @@ def render_spheres(ctx, m):
                       "scene bytes per sphere", "all device buffers"], rows)]
 
 
+def instances_scene(ctx, n):
+    """n placements of the knot mesh of scenes/meshes/knot.obj (24,576 triangles) on a grid
+    with seeded turns and sizes, on a ground quad under a quad light: instanced by default,
+    flattened with render.instancing = false."""
+    rnd = random.Random(n)
+    cols = max(1, int(round(n ** 0.5)))
+    side = cols * 2.0
+    objects = [{"shape": "quad", "corner": [-side, 0, side], "edge_u": [2 * side, 0, 0], "edge_v": [0, 0, -2 * side],
+                "material": "ground"}]
+    for i in range(n):
+        x, z = (i % cols - (cols - 1) / 2) * 4.0, (i // cols - (cols - 1) / 2) * 4.0
+        s = round(rnd.uniform(0.18, 0.26), 3)
+        objects.append({"shape": "instance", "mesh": "knot",
+                        "transform": {"rotate": [-90, round(rnd.uniform(0, 360), 1), 0], "scale": s,
+                                      "translate": [x, 0.8, z]}})
+    scene = {"camera": {"position": [0, side * 0.6, side * 1.6], "look_at": [0, 0, 0], "fov": 45},
+             "lights": [{"type": "quad", "corner": [-side / 4, side, -side / 4], "edge_u": [side / 2, 0, 0],
+                         "edge_v": [0, 0, side / 2], "intensity": 10}],
+             "materials": {"ground": {"diffuse": {"color": 0.5}, "reflection": {"weight": 0}},
+                           "knot": {"diffuse": {"color": [0.7, 0.4, 0.2]}, "reflection": {"weight": 0.5, "glossiness": 0.7}}},
+             "meshes": {"knot": {"file": scene_file("meshes/knot.obj"), "material": "knot"}},
+             "objects": objects}
+    os.makedirs(ctx.mesh_dir, exist_ok=True)
+    path = os.path.join(ctx.mesh_dir, f"instances_{n}.json")
+    with open(path, "w") as f:
+        json.dump(scene, f)
+    return path
+
+
+def measure_instances(ctx):
+    """Instances up to 10,000 (100 quick); flattened up to 100 (10 quick): 2.5 M triangles."""
+    counts = [10, 100] if ctx.quick else [10, 100, 1000, 10000]
+    flat = [10] if ctx.quick else [10, 100]
+    w, h, spp = (32, 24, 2) if ctx.quick else (128, 96, 8)
+    rows = []
+    for n in counts:
+        path = instances_scene(ctx, n)
+        ctx.warm_up(path, spp)
+        rows.append(("instanced", n, ctx.render(path, f"scale_instances_{n}", spp, w, h)))
+    for n in flat:
+        path = instances_scene(ctx, n)
+        ctx.warm_up(path, spp, defines=["render.instancing=false"])
+        rows.append(("flattened", n, ctx.render(path, f"scale_instances_flat_{n}", spp, w, h,
+                                                defines=["render.instancing=false"])))
+    return {"size": (w, h, spp), "rows": rows}
+
+
+def render_instances(ctx, m):
+    w, h, spp = m["size"]
+    rows = []
+    for kind, n, r in m["rows"]:
+        s = r.stats
+        rows.append([kind, f"{n:,}", f"{s['triangles']:,}", f"{s.get('instanced_triangles') or s['triangles']:,}",
+                     fmt(s["bvh_seconds"]), fmt(r.seconds), rate(s["samples"], r.seconds), fmt_bytes(s["scene_bytes"]),
+                     fmt(s["scene_bytes"] / n), fmt_bytes(s["device_bytes"])])
+    return ["### Memory and time vs instance count\n",
+            f"n placements of the knot mesh (`scenes/meshes/knot.obj`, 24,576 triangles) with seeded turns and "
+            f"sizes on a ground quad (generated per run), {w}x{h}, {spp} spp: instanced (one copy of the mesh, a "
+            "two-level BVH: docs/bvh-layout.md#instances) against the same placements flattened "
+            "(`render.instancing = false`). Triangles stored vs rendered; scene data as above, per placement "
+            "including the shared mesh's share (which falls as n grows).\n",
+            md_table(["placements", "n", "triangles stored", "triangles rendered", "BVH build (s)", "render (s)",
+                      "Msamples/s", "scene data", "scene bytes per placement", "all device buffers"], rows)]
+
+
 def measure_resolution(ctx):
     """The Cornell box at square sizes; the stats' buffer sizes beside the render time."""
     sides = [16, 32] if ctx.quick else [64, 128, 256, 512]
@@ -152,9 +218,10 @@ def render_resolution(ctx, m):
 
 
 def measure(ctx):
-    return {"triangles": measure_triangles(ctx), "spheres": measure_spheres(ctx), "resolution": measure_resolution(ctx)}
+    return {"triangles": measure_triangles(ctx), "spheres": measure_spheres(ctx), "instances": measure_instances(ctx),
+            "resolution": measure_resolution(ctx)}
 
 
 def render(ctx, m):
     return "\n".join(["## Scaling\n"] + render_triangles(ctx, m["triangles"]) + render_spheres(ctx, m["spheres"]) +
-                     render_resolution(ctx, m["resolution"]))
+                     render_instances(ctx, m["instances"]) + render_resolution(ctx, m["resolution"]))

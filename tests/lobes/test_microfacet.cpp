@@ -556,9 +556,15 @@ TEST(Reflection, HostMatchesDevice) {
   //    moves a direction by ~1e-7; a near-zero component then differs by a large RELATIVE
   //    amount (measured 1.8e-4 on a component of 1.8e-4) that means nothing. Measured max
   //    absolute difference (printed below): 5.8e-7 on PoCL 3.1 / LLVM 15 vs glibc, an
-  //    Ashikhmin–Shirley sample (a few ulps of sin/cos/exp through the reflection); bound
-  //    1e-6. (Before the GGX sampler formed 1 - p1^2 - p2^2 without cancellation it was
-  //    2.3e-6 at the disk's rim: the test found that, microfacet.h fixed it);
+  //    Ashikhmin–Shirley sample (a few ulps of sin/cos/exp through the reflection); on Intel's
+  //    CPU runtime 2026.2 1.36e-6 on an AVX2 machine (AMD EPYC, 2026-12-02; the runtime's
+  //    math library dispatches on the instruction set, and the machines of earlier runs, the
+  //    issue's AVX-512 ones, stayed under 1e-6), again an
+  //    Ashikhmin–Shirley sample (glossiness 0, anisotropy 1: pow with a large exponent).
+  //    OpenCL 1.2 §7.4 allows pow 16 ulp, 1.9e-6 on a unit component, so a tighter bound
+  //    would fail conforming devices; bound 2e-6, still below the 2.3e-6 of the cancellation
+  //    bug this check found (the GGX sampler once formed 1 - p1^2 - p2^2 without
+  //    cancellation, 2.3e-6 at the disk's rim; microfacet.h fixed it);
   //  - the sample's pdf and weight: density of a sharp lobe at two directions 1e-7 apart
   //    differs by up to 2e-4 relative (alpha = 0.01: d log pdf / d wi ~ 1 / alpha^2). So the
   //    device's pdf and weight are checked against the HOST's pdf and eval / pdf AT THE
@@ -617,7 +623,7 @@ TEST(Reflection, HostMatchesDevice) {
   EXPECT_TRUE(fixed);
   EXPECT_TRUE(sampled);
   EXPECT_EQ(flag_mismatch, 0);
-  EXPECT_LE(worst_dir, 1e-6) << "record " << worst_dir_at << [&] {
+  EXPECT_LE(worst_dir, 2e-6) << "record " << worst_dir_at << [&] {
     std::ostringstream o;
     for (int k = 0; k < AW_PROBE_REFL_IN; ++k) o << (k ? " " : "\n  in: ") << in[worst_dir_at * AW_PROBE_REFL_IN + k];
     for (int k = 0; k < AW_PROBE_REFL_OUT; ++k) {

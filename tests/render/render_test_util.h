@@ -63,6 +63,21 @@ inline double mean_difference_z(const aw::RenderResult& a, const aw::RenderResul
   return z;
 }
 
+// Render options without the progress line.
+inline aw::RenderOptions quiet_options() {
+  aw::RenderOptions o;
+  o.progress = false;
+  return o;
+}
+
+// The mean over pixels and channels of a render's per-pixel averages.
+inline double image_mean(const aw::RenderResult& r) {
+  double s = 0.0;
+  for (size_t p = 0; p < r.count.size(); ++p)
+    for (int c = 0; c < 3; ++c) s += double(r.sum[p * 3 + size_t(c)]) / double(r.count[p]);
+  return s / double(r.count.size() * 3);
+}
+
 inline std::string source_path(const std::string& rel) { return std::string(ARCHWAVE_SOURCE_DIR) + "/" + rel; }
 
 // A scene of the repository (with -D overrides), per pixel: the wavefront kernels against the

@@ -14,23 +14,14 @@
 #include "host/film/image_io.h"
 #include "host/render/render.h"
 #include "host/scene/scene.h"
+#include "tests/render/render_test_util.h"
 
 namespace {
 
 std::string src(const std::string& rel) { return std::string(ARCHWAVE_SOURCE_DIR) + "/" + rel; }
 
-aw::RenderOptions quiet_options() {
-  aw::RenderOptions o;
-  o.progress = false;
-  return o;
-}
-
-double image_mean(const aw::RenderResult& r) {
-  double s = 0.0;
-  for (size_t p = 0; p < r.count.size(); ++p)
-    for (int c = 0; c < 3; ++c) s += double(r.sum[p * 3 + c]) / double(r.count[p]);
-  return s / double(r.count.size() * 3);
-}
+using aw_test::image_mean;
+using aw_test::quiet_options;
 
 // Kernel vs scalar on the default scene: the two consume the same random numbers and sum
 // each pixel in the same order, so they agree per pixel, except where float differences

@@ -15,11 +15,7 @@
 
 namespace {
 
-aw::RenderOptions quiet() {
-  aw::RenderOptions o;
-  o.progress = false;
-  return o;
-}
+aw::RenderOptions quiet() { return aw_test::quiet_options(); }
 
 // Three spheres (Lambert with a checker, glossy anisotropic GGX, glass) on a floor under a
 // quad light; `segments` empty for analytic spheres, else each sphere's tessellation.
@@ -48,12 +44,7 @@ std::string spheres_scene(const std::string& segments) {
   })");
 }
 
-double mean(const aw::RenderResult& r) {
-  double s = 0.0;
-  for (size_t p = 0; p < r.count.size(); ++p)
-    for (int c = 0; c < 3; ++c) s += r.sum[p * 3 + size_t(c)] / r.count[p];
-  return s / double(3 * r.count.size());
-}
+double mean(const aw::RenderResult& r) { return aw_test::image_mean(r); }
 
 // The same scene with analytic spheres and with spheres of 256 x 128 segments (65,000
 // triangles each: the facets depart from the sphere by 7e-5 of its radius, about 1/700 of a
