@@ -565,7 +565,7 @@ def forest():
         if kind == "broadleaf" and rnd.random() < 0.2:
             inst["material"] = "autumn"
         objects.append(inst)
-    sc = daylight(mats, objects, {"position": [0, 6, 24], "look_at": [0, 2, 0], "up": [0, 1, 0], "fov": 45}, spp=64)
+    sc = daylight(mats, objects, {"position": [0, 16, 32], "look_at": [0, 0, -45], "up": [0, 1, 0], "fov": 40}, spp=64)
     sc["meshes"] = meshes
     return sc
 

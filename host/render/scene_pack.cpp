@@ -164,6 +164,7 @@ MaterialGpu pack_material(const MaterialDesc& d, const RenderSettings& rs, float
   g.highlight_vs_reflection = d.highlight_vs_reflection;
   if (d.metal) g.flags |= AW_MAT_METAL;
   if (d.refraction.thin_walled) g.flags |= AW_MAT_THIN_WALLED;
+  if (d.anisotropy.uv_set == 1) g.flags |= AW_MAT_ANISO_UV_SET1;
   if (o.specular_highlights_only) g.flags |= AW_MAT_HIGHLIGHTS_ONLY;
   if (o.skip_weak_internal_reflections) g.flags |= AW_MAT_SKIP_WEAK_INTERNAL;
   g.refl_depth = uint32_t(o.trace_depth_override ? o.reflection_depth : rs.reflection_depth);
@@ -200,6 +201,7 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
     uint32_t base = uint32_t(ps.verts.size());
     bool has_n = m.normals.size() == m.positions.size();
     bool has_uv = m.uvs.size() == m.positions.size();
+    bool has_uv2 = m.uvs2.size() == m.positions.size();  // else set 1 reads set 0
     // Mesh tangents for anisotropy.orientation = "tangent" (empty where nothing reads them).
     std::vector<glm::vec4> tangents;
     if (m.material < scene.materials.size()) tangents = tangents_for_material(m, scene.materials[m.material]);
@@ -215,6 +217,8 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
         v.uv[0] = m.uvs[i].x;
         v.uv[1] = m.uvs[i].y;
       }
+      v.uv2[0] = has_uv2 ? m.uvs2[i].x : v.uv[0];
+      v.uv2[1] = has_uv2 ? m.uvs2[i].y : v.uv[1];
       if (i < tangents.size()) {
         put3(v.t, glm::vec3(tangents[i]));
         v.t[3] = tangents[i].w;

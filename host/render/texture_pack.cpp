@@ -163,6 +163,7 @@ void pack_material_textures(const Scene& scene, const MaterialDesc& d, MaterialG
     b.texture = ref.texture;
     b.multiplier = ref.multiplier;
     b.offset = ref.offset;
+    b.uv_set = uint32_t(ref.uv_set);
     if (key == "bump.input") {
       b.channel = ref.channel < 0 ? AW_TEXCH_LUMINANCE : uint32_t(ref.channel);
       b.count = 1;

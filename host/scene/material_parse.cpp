@@ -55,12 +55,13 @@ class MaterialParser {
             ctx_, e, {{"tangent", AnisoOrientation::Tangent}, {"uv", AnisoOrientation::Uv}});
       }
       integer(g, "uv_set", 0, std::numeric_limits<int>::max(), &m.anisotropy.uv_set);
-      // Meshes carry one UV set (OBJ has one; the built-in shapes have one): any other set
-      // would silently orient the highlight by set 0, so it is an error, not a warning.
-      if (m.anisotropy.uv_set != 0) {
+      // Meshes carry two UV sets (glTF's TEXCOORD_0 and TEXCOORD_1; a mesh with one reads it
+      // as both): a higher set would silently orient the highlight by another, so it is an
+      // error, not a warning.
+      if (m.anisotropy.uv_set > 1) {
         ctx_.fail(join_key(g.path, "uv_set"), "material \"" + name_ + "\": anisotropy.uv_set = " +
                                                   std::to_string(m.anisotropy.uv_set) +
-                                                  ": no such UV set; meshes carry a single UV set, 0");
+                                                  ": no such UV set; meshes carry two UV sets, 0 and 1");
       }
     }
 

@@ -1056,6 +1056,28 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
     }
   });
 
+  // A material that reads UV set 1 on a mesh with one set reads set 0 there: said once per mesh.
+  {
+    auto reads_set1 = [&](uint32_t material) {
+      const MaterialDesc& md = scene.materials[material];
+      if (md.anisotropy.uv_set == 1) return true;
+      for (const auto& kv : md.textures)
+        if (kv.second.uv_set == 1) return true;
+      return false;
+    };
+    auto check = [&](const TriangleMesh& m) {
+      if (m.uvs2.empty() && m.material < scene.materials.size() && reads_set1(m.material))
+        ctx.warn("objects", m.name + ": material \"" + scene.material_names[m.material] +
+                                "\" reads UV set 1, which this mesh does not have; it reads set 0 there");
+    };
+    for (const TriangleMesh& m : scene.meshes) check(m);
+    for (const SphereDesc& sd : scene.spheres)
+      if (reads_set1(sd.material))
+        ctx.warn("objects", sd.name + ": material \"" + scene.material_names[sd.material] +
+                                "\" reads UV set 1; a sphere has one UV set, which it reads there");
+    for (const MeshPrototype& p : scene.prototypes)
+      for (const TriangleMesh& m : p.parts) check(m);
+  }
   // render.instancing false: every placement becomes a world mesh of its own (memory for
   // speed: one level of BVH; and the flattened equivalent the tests compare instancing with).
   if (!scene.render.instancing) {

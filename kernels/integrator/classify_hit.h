@@ -49,11 +49,15 @@ AW_FN float3 vertex_normal(const VertexData* v) { return make_float3(v->n[0], v-
 
 // Tangent from the UV parametrisation (dP/du of the triangle), made orthogonal to n; falls
 // back to an arbitrary frame where the UVs are degenerate. The anisotropic frame for
-// anisotropy.orientation = "uv" (constant per triangle), and the mesh tangent's fallback.
+// anisotropy.orientation = "uv" (constant per triangle, in UV set `set`: anisotropy.uv_set),
+// and the mesh tangent's fallback (set 0).
 AW_FN float3 triangle_tangent(const VertexData* v0, const VertexData* v1,
-                              const VertexData* v2, float3 p0, float3 p1, float3 p2, float3 n) {
-  float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
-  float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
+                              const VertexData* v2, float3 p0, float3 p1, float3 p2, float3 n, uint set) {
+  const float* a = set == 1u ? v0->uv2 : v0->uv;
+  const float* b1 = set == 1u ? v1->uv2 : v1->uv;
+  const float* b2 = set == 1u ? v2->uv2 : v2->uv;
+  float du1 = b1[0] - a[0], dv1 = b1[1] - a[1];
+  float du2 = b2[0] - a[0], dv2 = b2[1] - a[1];
   float det = du1 * dv2 - du2 * dv1;
   float3 t;
   if (fabs(det) > 1e-12f) {
@@ -82,7 +86,7 @@ AW_FN float3 interpolated_tangent(const VertexData* v0, const VertexData* v1,
   t = t - n * dot(n, t);
   float l2 = dot(t, t);
   if (l2 > 1e-6f && isfinite(l2)) return t / sqrt(l2);
-  return triangle_tangent(v0, v1, v2, p0, p1, p2, n);
+  return triangle_tangent(v0, v1, v2, p0, p1, p2, n, 0u);
 }
 
 // The shading point of a triangle hit, both normals facing the side the ray came from.
@@ -194,20 +198,32 @@ AW_FN void classify_texture_point(PathRef ps, const VertexData* v0, const Vertex
     float3 c = cross(dpdu, dpdv);
     float a = sqrt(dot(c, c));
     float f = a > 0.0f ? (w / cos_v) / sqrt(a) : 0.0f;
-    PS_F(ps, sp_tu) = h.uv.x;
-    PS_F(ps, sp_tv) = h.uv.y;
-    PS_F(ps, sp_tf) = isfinite(f) ? f : 0.0f;
+    // A sphere has one UV set: set 1 reads set 0.
+    PS_F(ps, sp_tu) = PS_F(ps, sp_tu2) = h.uv.x;
+    PS_F(ps, sp_tv) = PS_F(ps, sp_tv2) = h.uv.y;
+    PS_F(ps, sp_tf) = PS_F(ps, sp_tf2) = isfinite(f) ? f : 0.0f;
     return;
   }
-  PS_F(ps, sp_tu) = h.b0 * v0->uv[0] + h.b1 * v1->uv[0] + h.b2 * v2->uv[0];
-  PS_F(ps, sp_tv) = h.b0 * v0->uv[1] + h.b1 * v1->uv[1] + h.b2 * v2->uv[1];
-  float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
-  float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
-  float uv2 = fabs(du1 * dv2 - du2 * dv1);  // twice the UV area
   float3 c = cross(h.p1 - h.p0, h.p2 - h.p0);
   float world2 = sqrt(dot(c, c));  // twice the world area
-  float f = world2 > 0.0f ? (w / cos_v) * sqrt(uv2 / world2) : 0.0f;
-  PS_F(ps, sp_tf) = isfinite(f) ? f : 0.0f;
+  // Each UV set has its own texel-to-world ratio.
+  for (uint set = 0u; set < 2u; ++set) {
+    const float* a = set ? v0->uv2 : v0->uv;
+    const float* b = set ? v1->uv2 : v1->uv;
+    const float* e = set ? v2->uv2 : v2->uv;
+    float u = h.b0 * a[0] + h.b1 * b[0] + h.b2 * e[0];
+    float v = h.b0 * a[1] + h.b1 * b[1] + h.b2 * e[1];
+    float du1 = b[0] - a[0], dv1 = b[1] - a[1];
+    float du2 = e[0] - a[0], dv2 = e[1] - a[1];
+    float uv2 = fabs(du1 * dv2 - du2 * dv1);  // twice the UV area
+    float f = world2 > 0.0f ? (w / cos_v) * sqrt(uv2 / world2) : 0.0f;
+    f = isfinite(f) ? f : 0.0f;
+    if (set) {
+      PS_F(ps, sp_tu2) = u; PS_F(ps, sp_tv2) = v; PS_F(ps, sp_tf2) = f;
+    } else {
+      PS_F(ps, sp_tu) = u; PS_F(ps, sp_tv) = v; PS_F(ps, sp_tf) = f;
+    }
+  }
 }
 
 // The bump-mapped shading normal (texture/material_textures.h, bump_normal), from the height
@@ -217,12 +233,17 @@ AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu*
                            const VertexData* v0, const VertexData* v1,
                            const VertexData* v2, float3 dir) {
   PS_F(ps, sp_bx) = h.n.x; PS_F(ps, sp_by) = h.n.y; PS_F(ps, sp_bz) = h.n.z;
+  const AW_GLOBAL TexBindingGpu* b = &sc.tex_bindings[m->bump_binding];
+  const uint set = b->uv_set;  // the height texture's UV set: its parametrisation is bumped along
   float3 dpdu, dpdv;
   if (AW_FEAT_SPHERE && h.sphere) {
     classify_sphere_dpduv(v0, h, &dpdu, &dpdv);
   } else {
-    float du1 = v1->uv[0] - v0->uv[0], dv1 = v1->uv[1] - v0->uv[1];
-    float du2 = v2->uv[0] - v0->uv[0], dv2 = v2->uv[1] - v0->uv[1];
+    const float* a = set == 1u ? v0->uv2 : v0->uv;
+    const float* bb = set == 1u ? v1->uv2 : v1->uv;
+    const float* e = set == 1u ? v2->uv2 : v2->uv;
+    float du1 = bb[0] - a[0], dv1 = bb[1] - a[1];
+    float du2 = e[0] - a[0], dv2 = e[1] - a[1];
     float det = du1 * dv2 - du2 * dv1;
     if (!(fabs(det) > 1e-20f)) return h.n;  // no UV parametrisation: nothing to bump along
     // dP/du and dP/dv of the triangle (Pharr, Jakob & Humphreys, pbrt-v3, Sec. 3.6.2).
@@ -231,8 +252,8 @@ AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu*
     dpdv = (e2 * du1 - e1 * du2) / det;
   }
   TextureScene ts = scene_texture_ref(sc);
-  const AW_GLOBAL TexBindingGpu* b = &sc.tex_bindings[m->bump_binding];
-  float u = PS_F(ps, sp_tu), v = PS_F(ps, sp_tv), f = PS_F(ps, sp_tf);
+  float3 at = surface_uv_for(ps_surface_uv(ps), b);
+  float u = at.x, v = at.y, f = at.z;
   float d = fmax(texture_step(&sc.textures[b->texture]), 0.5f * f);
   float hu = m->bump_scale * (binding_eval_scalar(ts, b, u + d, v, f) - binding_eval_scalar(ts, b, u - d, v, f)) / (2.0f * d);
   float hv = m->bump_scale * (binding_eval_scalar(ts, b, u, v + d, f) - binding_eval_scalar(ts, b, u, v - d, f)) / (2.0f * d);
@@ -310,7 +331,7 @@ AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGp
     PS_F(ps, sp_tx) = tangent.x; PS_F(ps, sp_ty) = tangent.y; PS_F(ps, sp_tz) = tangent.z;
   } else if (AW_FEAT_ANISOTROPY && m->aniso_amount != 0.0f) {
     tangent = m->aniso_orientation == AW_ANISO_UV
-                  ? triangle_tangent(v0, v1, v2, h.p0, h.p1, h.p2, h.n)
+                  ? triangle_tangent(v0, v1, v2, h.p0, h.p1, h.p2, h.n, (m->flags & AW_MAT_ANISO_UV_SET1) ? 1u : 0u)
                   : interpolated_tangent(v0, v1, v2, h.b0, h.b1, h.b2, h.p0, h.p1, h.p2, h.n);
     PS_F(ps, sp_tx) = tangent.x; PS_F(ps, sp_ty) = tangent.y; PS_F(ps, sp_tz) = tangent.z;
   }

@@ -11,11 +11,23 @@
 #include "integrator/scene_ref.h"
 #include "texture/material_textures.h"
 
+// The shading point's coordinates in both UV sets (classify_hit, classify_texture_point).
+AW_FN SurfaceUv ps_surface_uv(PathRef ps) {
+  SurfaceUv s;
+  s.u = PS_F(ps, sp_tu);
+  s.v = PS_F(ps, sp_tv);
+  s.f = PS_F(ps, sp_tf);
+  s.u2 = PS_F(ps, sp_tu2);
+  s.v2 = PS_F(ps, sp_tv2);
+  s.f2 = PS_F(ps, sp_tf2);
+  return s;
+}
+
 AW_FN const AW_GLOBAL MaterialGpu* shading_material(PathRef ps, SceneRef sc) {
   const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
   if (!(AW_FEAT_TEXTURE && m->tex_count > 0u)) return m;
   AW_GLOBAL MaterialGpu* r = &sc.mat_resolved[ps.slot];
-  material_apply_textures(r, m, scene_texture_ref(sc), PS_F(ps, sp_tu), PS_F(ps, sp_tv), PS_F(ps, sp_tf));
+  material_apply_textures(r, m, scene_texture_ref(sc), ps_surface_uv(ps));
   return r;
 }
 

@@ -27,8 +27,10 @@ AW_STATE_F(sp_gx) AW_STATE_F(sp_gy) AW_STATE_F(sp_gz)
 /* Tangent (for anisotropy), orthogonal to the shading normal. */
 AW_STATE_F(sp_tx) AW_STATE_F(sp_ty) AW_STATE_F(sp_tz)
 /* Textures: the shading point's UV, the path's footprint there in UV units
- * (texture/texture.h), and the shading normal before bump mapping (disable_bump). */
+ * (texture/texture.h), the same in the second UV set, and the shading normal before bump
+ * mapping (disable_bump). */
 AW_STATE_F(sp_tu) AW_STATE_F(sp_tv) AW_STATE_F(sp_tf)
+AW_STATE_F(sp_tu2) AW_STATE_F(sp_tv2) AW_STATE_F(sp_tf2)
 AW_STATE_F(sp_bx) AW_STATE_F(sp_by) AW_STATE_F(sp_bz)
 /* The path's ray cone (docs/architecture.md#texture-footprint): its width where the current
  * ray starts and its spread angle (radians). */

@@ -30,15 +30,29 @@ AW_FN float binding_eval_scalar(TextureScene ts, const AW_GLOBAL TexBindingGpu* 
   return binding_scalar(b, texture_eval(&ts.textures[b->texture], ts.texels, u, v, fuv), b->channel);
 }
 
-// Writes material m with every bound input replaced by its texture's value at (u, v) into *r.
-// The inputs are whole 32-bit words of MaterialGpu (TexBindingGpu.word); a colour is three.
-AW_FN void material_apply_textures(AW_GLOBAL MaterialGpu* r, const AW_GLOBAL MaterialGpu* m, TextureScene ts, float u,
-                                   float v, float fuv) {
+// A surface point's texture coordinates in both UV sets: (u, v) and the footprint there in UV
+// units (texture/texture.h), for set 0 and set 1.
+typedef struct {
+  float u, v, f;
+  float u2, v2, f2;
+} SurfaceUv;
+
+// The binding's UV set at the point: (u, v, footprint).
+AW_FN float3 surface_uv_for(SurfaceUv s, const AW_GLOBAL TexBindingGpu* b) {
+  return b->uv_set == 1u ? make_float3(s.u2, s.v2, s.f2) : make_float3(s.u, s.v, s.f);
+}
+
+// Writes material m with every bound input replaced by its texture's value at the point (in
+// the binding's UV set) into *r. The inputs are whole 32-bit words of MaterialGpu
+// (TexBindingGpu.word); a colour is three.
+AW_FN void material_apply_textures(AW_GLOBAL MaterialGpu* r, const AW_GLOBAL MaterialGpu* m, TextureScene ts,
+                                   SurfaceUv s) {
   *r = *m;
   AW_GLOBAL float* w = (AW_GLOBAL float*)r;
   for (uint i = 0u; i < m->tex_count; ++i) {
     const AW_GLOBAL TexBindingGpu* b = &ts.bindings[m->tex_first + i];
-    float4 c = texture_eval(&ts.textures[b->texture], ts.texels, u, v, fuv);
+    float3 t = surface_uv_for(s, b);
+    float4 c = texture_eval(&ts.textures[b->texture], ts.texels, t.x, t.y, t.z);
     if (b->channel == AW_TEXCH_RGB) {
       w[b->word + 0u] = binding_scalar(b, c, AW_TEXCH_R);
       w[b->word + 1u] = binding_scalar(b, c, AW_TEXCH_G);
@@ -50,14 +64,17 @@ AW_FN void material_apply_textures(AW_GLOBAL MaterialGpu* r, const AW_GLOBAL Mat
   }
 }
 
-// The UV of barycentrics (b1, b2) on triangle prim.
-AW_FN float2 triangle_uv(TextureScene ts, uint prim, float b1, float b2) {
+// The UV (set 0 or 1) of barycentrics (b1, b2) on triangle prim.
+AW_FN float2 triangle_uv(TextureScene ts, uint prim, float b1, float b2, uint set) {
   const AW_GLOBAL TriangleInfo* tri = &ts.tri_info[prim];
   const AW_GLOBAL VertexData* v0 = &ts.verts[tri->v[0]];
   const AW_GLOBAL VertexData* v1 = &ts.verts[tri->v[1]];
   const AW_GLOBAL VertexData* v2 = &ts.verts[tri->v[2]];
   float b0 = 1.0f - b1 - b2;
-  return make_float2(b0 * v0->uv[0] + b1 * v1->uv[0] + b2 * v2->uv[0], b0 * v0->uv[1] + b1 * v1->uv[1] + b2 * v2->uv[1]);
+  const AW_GLOBAL float* a = set == 1u ? v0->uv2 : v0->uv;
+  const AW_GLOBAL float* b = set == 1u ? v1->uv2 : v1->uv;
+  const AW_GLOBAL float* c = set == 1u ? v2->uv2 : v2->uv;
+  return make_float2(b0 * a[0] + b1 * b[0] + b2 * c[0], b0 * a[1] + b1 * b[1] + b2 * c[1]);
 }
 
 // Whether the surface is there at barycentrics (b1, b2) of triangle prim: cutout opacity
@@ -67,8 +84,9 @@ AW_FN float2 triangle_uv(TextureScene ts, uint prim, float b1, float b2) {
 AW_FN int material_opaque_at(TextureScene ts, uint prim, float b1, float b2) {
   const AW_GLOBAL MaterialGpu* m = &ts.materials[ts.tri_info[prim].material];
   if (m->cutout_binding == AW_NONE) return m->cutout_opacity >= 0.5f;
-  float2 uv = triangle_uv(ts, prim, b1, b2);
-  return binding_eval_scalar(ts, &ts.bindings[m->cutout_binding], uv.x, uv.y, 0.0f) >= 0.5f;
+  const AW_GLOBAL TexBindingGpu* b = &ts.bindings[m->cutout_binding];
+  float2 uv = triangle_uv(ts, prim, b1, b2, b->uv_set);
+  return binding_eval_scalar(ts, b, uv.x, uv.y, 0.0f) >= 0.5f;
 }
 
 // An analytic sphere's centre vertex (types/bvh.h, AW_SPHERE_MARK), and the UV at a point on it.

@@ -85,12 +85,14 @@ typedef struct {
 // vertex normal, w = ±1 its handedness (sign of (n × t)·dP/dv; kept for a bitangent, the
 // anisotropic frame itself uses n × t). The tangent is all zero where no material of the
 // mesh reads it (host/scene/tangents.h); the kernels then fall back to the UV frame.
+// uv2: the second UV set (glTF TEXCOORD_1), read by texture bindings with uv_set 1 and by
+// anisotropy.uv_set 1; a copy of uv for meshes without one.
 // 64 bytes: one cache line per vertex.
 typedef struct {
   float p[4];
   float n[4];
   float uv[2];
-  float pad[2];
+  float uv2[2];
   float t[4];
 } VertexData;
 

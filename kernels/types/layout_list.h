@@ -54,4 +54,6 @@ AW_LAYOUT_SIZE(50, InstanceGpu)
 AW_LAYOUT_ENTRY(51, InstanceGpu, w2o)
 AW_LAYOUT_ENTRY(52, InstanceGpu, root)
 AW_LAYOUT_ENTRY(53, InstanceGpu, pad)
-#define AW_LAYOUT_COUNT 54
+AW_LAYOUT_ENTRY(54, VertexData, uv2)
+AW_LAYOUT_ENTRY(55, TexBindingGpu, uv_set)
+#define AW_LAYOUT_COUNT 56

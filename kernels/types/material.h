@@ -12,6 +12,7 @@
 #define AW_MAT_HIGHLIGHTS_ONLY 8u
 #define AW_MAT_SKIP_WEAK_INTERNAL 16u
 #define AW_MAT_TRANSLUCENCY 32u
+#define AW_MAT_ANISO_UV_SET1 64u  // anisotropy.uv_set 1: the "uv" frame follows the second UV set
 
 // Ambient occlusion flags (MaterialGpu.ao_flags; docs/material.md §4).
 #define AW_AO_MULTIPLY 1u        // combine "multiply" (else "add")

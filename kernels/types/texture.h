@@ -61,6 +61,8 @@ typedef struct {
   float lo;
   float hi;
   uint count;  // words written: 1 (a scalar input) or 3 (a colour input)
+  uint uv_set; // 0 or 1: the UV set the lookup reads (VertexData.uv or uv2)
+  uint pad[3];
 } TexBindingGpu;
 
 #endif

@@ -30,19 +30,7 @@ using nlohmann::json;
 constexpr int kByte = 5121, kShort = 5123, kInt = 5125, kFloat = 5126;
 constexpr double kPi = 3.14159265358979323846;
 
-std::string base64(const std::vector<uint8_t>& b) {
-  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  for (size_t i = 0; i < b.size(); i += 3) {
-    const uint32_t n = (uint32_t(b[i]) << 16) | (i + 1 < b.size() ? uint32_t(b[i + 1]) << 8 : 0) |
-                       (i + 2 < b.size() ? uint32_t(b[i + 2]) : 0);
-    out += t[(n >> 18) & 63];
-    out += t[(n >> 12) & 63];
-    out += i + 1 < b.size() ? t[(n >> 6) & 63] : '=';
-    out += i + 2 < b.size() ? t[n & 63] : '=';
-  }
-  return out;
-}
+using aw_test::base64;
 
 std::string temp_dir() { return aw_test::scratch_dir("gltf"); }
 
@@ -277,6 +265,42 @@ TEST(GltfGeometry, UvsAreFlippedAndNormalizedIntegersDecoded) {
   EXPECT_EQ(b[0], glm::dvec2(1.0, 1.0 - 51 / 255.0));
   EXPECT_EQ(b[1], glm::dvec2(0.0, 1.0));
   EXPECT_EQ(b[2], glm::dvec2(102 / 255.0, 0.0));
+}
+
+// TEXCOORD_1 is the second UV set (flipped as TEXCOORD_0), and a textureInfo's texCoord 1
+// binds its texture to it; texCoord 2 (no such set here) warns and reads set 0.
+TEST(GltfGeometry, SecondUvSetAndTexCoord) {
+  const std::vector<uint8_t> png = png_2x2(kPixels);
+  Gltf t;
+  const int pos = t.floats({0, 0, 0, 1, 0, 0, 0, 1, 0}, "VEC3", 3);
+  const int uv0 = t.floats({0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 1.0f}, "VEC2", 2);
+  const int uv1 = t.floats({0.5f, 0.25f, 2.0f, 0.25f, 0.5f, 3.0f}, "VEC2", 2);
+  t.g["meshes"] = json::array({{{"primitives", json::array({{{"attributes", {{"POSITION", pos}, {"TEXCOORD_0", uv0},
+                                                                             {"TEXCOORD_1", uv1}}},
+                                                             {"material", 0}}})}}});
+  t.g["nodes"] = json::array({{{"mesh", 0}}});
+  t.g["images"] = json::array({{{"uri", "data:image/png;base64," + base64(png)}}});
+  t.g["textures"] = json::array({{{"source", 0}}});
+  t.g["materials"] = json::array({{{"name", "Two"},
+                                   {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}},
+                                                             {"metallicRoughnessTexture", {{"index", 0}, {"texCoord", 2}}}}}}});
+  GltfImport imp;
+  std::string error;
+  std::vector<std::string> warnings;
+  ASSERT_TRUE(load(write_file("uv2.gltf", t.gltf_text()), &imp, &error, &warnings)) << error;
+  ASSERT_EQ(imp.primitives.size(), 1u);
+  const auto& m = imp.primitives[0].mesh;
+  ASSERT_EQ(m.uvs2.size(), 3u);
+  EXPECT_EQ(m.uvs2[0], glm::dvec2(0.5, 0.75));
+  EXPECT_EQ(m.uvs2[1], glm::dvec2(2.0, 0.75));
+  EXPECT_EQ(m.uvs2[2], glm::dvec2(0.5, -2.0));
+  EXPECT_EQ(m.uvs[2], glm::dvec2(0.0, 0.0));
+  const aw::TextureBindings& b = imp.bindings[0];
+  EXPECT_EQ(b.at("diffuse.color").uv_set, 1);
+  EXPECT_EQ(b.at("reflection.glossiness").uv_set, 0);
+  bool warned = false;
+  for (const std::string& w : warnings) warned |= contains(w, "texCoord 2");
+  EXPECT_TRUE(warned);
 }
 
 // A quad of four vertices, two triangles, indexed with each unsigned type; the indices start

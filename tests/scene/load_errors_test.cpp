@@ -76,9 +76,9 @@ const BadCase kBadCases[] = {
     {"bad_word_uv_mesh.json", "4:24", "word_uv.obj\": line 7: 'vt' value \"1,5\" is not a finite decimal number"},
     {"bad_material_colour_type.json", "3:38",
      "materials.m.diffuse.color[1]: expected a number, got \"red\""},
-    // Meshes carry one UV set: another one would silently orient anisotropy by set 0.
+    // Meshes carry two UV sets: another one would silently orient anisotropy by set 0.
     {"bad_uv_set.json", "4:38",
-     "materials.brushed.anisotropy.uv_set: material \"brushed\": anisotropy.uv_set = 1: no such UV set"},
+     "materials.brushed.anisotropy.uv_set: material \"brushed\": anisotropy.uv_set = 2: no such UV set"},
 };
 
 INSTANTIATE_TEST_SUITE_P(Fixtures, BadScene, ::testing::ValuesIn(kBadCases));

@@ -15,6 +15,21 @@
 
 namespace aw_test {
 
+// RFC 4648 base64, for the data URIs of the glTF files tests write.
+inline std::string base64(const std::vector<uint8_t>& b) {
+  static const char* t = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (size_t i = 0; i < b.size(); i += 3) {
+    const uint32_t n = (uint32_t(b[i]) << 16) | (i + 1 < b.size() ? uint32_t(b[i + 1]) << 8 : 0) |
+                       (i + 2 < b.size() ? uint32_t(b[i + 2]) : 0);
+    out += t[(n >> 18) & 63];
+    out += t[(n >> 12) & 63];
+    out += i + 1 < b.size() ? t[(n >> 6) & 63] : '=';
+    out += i + 2 < b.size() ? t[n & 63] : '=';
+  }
+  return out;
+}
+
 // A fresh directory per test process and `tag` for the files a test writes, removed at exit.
 inline std::string scratch_dir(const std::string& tag) {
   struct Dir {

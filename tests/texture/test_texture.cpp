@@ -3,9 +3,11 @@
 // against the analytic tilt, disable_bump per lobe; the wavefront against the scalar path on a
 // textured scene; the loader's errors.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <string>
@@ -17,6 +19,7 @@
 #include "host/render/texture_pack.h"
 #include "tests/lobes/lobe_harness.h"
 #include "tests/render/render_test_util.h"
+#include "tests/scene/scene_test_util.h"
 
 #include "kernels/tests/probe_texture.cl"
 
@@ -315,6 +318,115 @@ TEST(Texture, BumpTiltsTheNormalByTheAnalyticAngle) {
     EXPECT_NEAR(mean_channel(render(scene("diffuse")), 1), flat, 2e-4) << who << ", diffuse.disable_bump";
     EXPECT_NEAR(mean_channel(render(scene("reflection")), 1), bumped, 2e-4) << who << ", reflection.disable_bump";
   }
+}
+
+// A glTF quad on y = 0 over [-2, 2]^2 (normals +y) with the given UV sets (4 corners each,
+// glTF convention), written next to the test's scenes; `uv1` empty: one set.
+std::string write_quad_gltf(const std::string& name, const std::vector<float>& uv0, const std::vector<float>& uv1) {
+  std::vector<float> f = {-2, 0, 2, 2, 0, 2, 2, 0, -2, -2, 0, -2, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0};
+  f.insert(f.end(), uv0.begin(), uv0.end());
+  f.insert(f.end(), uv1.begin(), uv1.end());
+  const uint32_t idx[6] = {0, 1, 2, 0, 2, 3};
+  std::vector<uint8_t> bin(f.size() * 4 + sizeof(idx));
+  std::memcpy(bin.data(), f.data(), f.size() * 4);
+  std::memcpy(bin.data() + f.size() * 4, idx, sizeof(idx));
+  std::string views, accessors, attributes = R"("POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2)";
+  auto view = [&](size_t offset, size_t bytes) {
+    views += std::string(views.empty() ? "" : ",") + R"({"buffer": 0, "byteOffset": )" + std::to_string(offset) +
+             R"(, "byteLength": )" + std::to_string(bytes) + "}";
+  };
+  view(0, 48);
+  view(48, 48);
+  view(96, 32);
+  std::string acc = R"({"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-2, 0, -2], "max": [2, 0, 2]},
+                       {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+                       {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"})";
+  size_t at = 128;
+  if (!uv1.empty()) {
+    view(at, 32);
+    acc += R"(, {"bufferView": 3, "componentType": 5126, "count": 4, "type": "VEC2"})";
+    attributes += R"(, "TEXCOORD_1": 3)";
+    at += 32;
+  }
+  view(at, sizeof(idx));
+  acc += R"(, {"bufferView": )" + std::to_string(uv1.empty() ? 3 : 4) + R"(, "componentType": 5125, "count": 6, "type": "SCALAR"})";
+  const std::string json = R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [0]}], "scene": 0, "nodes": [{"mesh": 0}],
+    "meshes": [{"primitives": [{"attributes": {)" + attributes + R"(}, "indices": )" + std::to_string(uv1.empty() ? 3 : 4) + R"(}]}],
+    "buffers": [{"byteLength": )" + std::to_string(bin.size()) + R"(, "uri": "data:application/octet-stream;base64,)" +
+                           aw_test::base64(bin) + R"("}],
+    "bufferViews": [)" + views + R"(], "accessors": [)" + acc + "]}";
+  const std::string path = testing::TempDir() + "/" + name + "_" + std::to_string(getpid()) + ".gltf";
+  std::ofstream(path) << json;
+  return path;
+}
+
+// The second UV set (glTF TEXCOORD_1): a checker colour, a checker cutout and a noise bump all
+// bound with uv_set 1 on a quad whose two sets differ (set 1 scaled, sheared and shifted) give
+// the same image, bit for bit in the scalar path, as the quad whose only set is that set 1
+// read as set 0; set 0 on the first quad gives another image; likewise anisotropy.uv_set for
+// the "uv" frame; and the wavefront matches the scalar path per pixel with the set-1 bindings
+// (the device's uv2 path).
+TEST(Texture, SecondUvSet) {
+  const std::vector<float> uv0 = {0, 1, 1, 1, 1, 0, 0, 0};
+  // Set 1 turned a quarter turn against set 0 (u runs along the quad's other edge), scaled and sheared.
+  const std::vector<float> uv1 = {0.3f, 0.2f, 0.3f, 3.2f, 2.8f, 3.4f, 2.8f, 0.5f};
+  const std::string two = write_quad_gltf("uv_two_sets", uv0, uv1), one = write_quad_gltf("uv_one_set", uv1, {});
+  auto scene = [&](const std::string& file, int set) {
+    const std::string s = std::to_string(set);
+    return aw::load_scene(aw_test::write_temp_scene("uv_set", R"({
+      "render": { "width": 48, "height": 48, "spp": 4, "max_depth": 3 },
+      "camera": { "position": [0, 5, 3], "look_at": [0, 0, 0], "fov": 50 },
+      "environment": { "type": "constant", "color": [0.3, 0.3, 0.3] },
+      "lights": [ { "type": "sun", "direction": [-0.3, -1, -0.2], "angle": 2, "intensity": 3 } ],
+      "textures": { "checks": { "type": "checker", "scale": [4, 4], "color1": [0.9, 0.6, 0.2], "color2": [0.1, 0.3, 0.7] },
+                    "holes": { "type": "checker", "scale": [3, 3], "color1": [1, 1, 1], "color2": [0, 0, 0] },
+                    "bumps": { "type": "noise", "scale": [6, 6], "octaves": 3 } },
+      "materials": { "m": { "diffuse": { "color": { "texture": "checks", "uv_set": )" + s + R"( } },
+                            "reflection": { "weight": 0.3, "glossiness": 0.6 },
+                            "cutout_opacity": { "texture": "holes", "uv_set": )" + s + R"( },
+                            "bump": { "input": { "texture": "bumps", "uv_set": )" + s + R"( }, "scale": 0.05 } },
+                     "floor": { "diffuse": { "color": [0.5, 0.5, 0.5] } } },
+      "objects": [ { "shape": "mesh", "file": ")" + file + R"(", "material": "m", "transform": { "translate": [0, 0.5, 0] } },
+                   { "shape": "quad", "corner": [-5, 0, 5], "edge_u": [10, 0, 0], "edge_v": [0, 0, -10], "material": "floor" } ]
+    })"));
+  };
+  const aw::Scene a1 = scene(two, 1), b0 = scene(one, 0), a0 = scene(two, 0);
+  const aw::RenderResult r_a1 = aw::render_scalar(a1, quiet()), r_b0 = aw::render_scalar(b0, quiet()),
+                         r_a0 = aw::render_scalar(a0, quiet());
+  size_t differ = 0;
+  for (size_t i = 0; i < r_a1.sum.size(); ++i) differ += r_a1.sum[i] != r_b0.sum[i];
+  EXPECT_EQ(differ, 0u) << "uv_set 1 on the two-set quad vs set 0 of the one-set quad";
+  const aw::ImageDiff d = aw::compare_images(r_a1.image(a1), r_a0.image(a0), 1e-3, 1e-4);
+  std::printf("uv_set 1 vs uv_set 0 on the same quad: %.1f%% of pixels within 1e-3\n", d.frac_pixels_within * 100);
+  EXPECT_LT(d.frac_pixels_within, 0.8);  // the quad covers about half the image
+  // anisotropy.uv_set: the "uv" frame follows the set (scalar path; the frame code is shared).
+  auto aniso = [&](const std::string& file, int set) {
+    return aw::load_scene(aw_test::write_temp_scene("uv_set_aniso", R"({
+      "render": { "width": 32, "height": 32, "spp": 4, "max_depth": 2 },
+      "camera": { "position": [0, 5, 3], "look_at": [0, 0, 0], "fov": 50 },
+      "lights": [ { "type": "quad", "corner": [-1, 4, -1], "edge_u": [2, 0, 0], "edge_v": [0, 0, 2], "intensity": 10 } ],
+      "materials": { "m": { "diffuse": { "color": [0.9, 0.9, 0.9] }, "metal": true,
+                            "reflection": { "weight": 1, "glossiness": 0.6 },
+                            "anisotropy": { "amount": 0.9, "orientation": "uv", "uv_set": )" + std::to_string(set) + R"( } } },
+      "objects": [ { "shape": "mesh", "file": ")" + file + R"(", "material": "m" } ]
+    })"));
+  };
+  const aw::Scene s_a1 = aniso(two, 1), s_b0 = aniso(one, 0), s_a0 = aniso(two, 0);
+  const aw::RenderResult q_a1 = aw::render_scalar(s_a1, quiet()), q_b0 = aw::render_scalar(s_b0, quiet()),
+                         q_a0 = aw::render_scalar(s_a0, quiet());
+  size_t adiff = 0;
+  for (size_t i = 0; i < q_a1.sum.size(); ++i) adiff += q_a1.sum[i] != q_b0.sum[i];
+  EXPECT_EQ(adiff, 0u) << "anisotropy.uv_set 1 on the two-set quad vs set 0 of the one-set quad";
+  const aw::ImageDiff da = aw::compare_images(q_a1.image(s_a1), q_a0.image(s_a0), 1e-3, 1e-4);
+  std::printf("anisotropy.uv_set 1 vs 0: %.1f%% of pixels within 1e-3 (means %.4f, %.4f)\n", da.frac_pixels_within * 100,
+              da.mean_a, da.mean_b);
+  EXPECT_LT(da.frac_pixels_within, 0.8);
+
+  const aw::RenderResult w = aw::render_wavefront(a1, quiet());
+  const aw::ImageDiff dw = aw::compare_images(w.image(a1), r_a1.image(a1), 1e-3, 1e-4);
+  std::printf("wavefront vs scalar, uv_set 1: %.2f%% of pixels within 1e-3\n", dw.frac_pixels_within * 100);
+  EXPECT_GE(dw.frac_pixels_within, 0.99);
+  EXPECT_EQ(w.stats.bad_samples, 0u);
 }
 
 // The textured test scene (checker floor, a cutout screen, a bumped glossy sphere, noise),
