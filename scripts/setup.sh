@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages archwave needs to build, test and benchmark.
 # A no-op (no apt call at all) when everything is already installed. Then installs Intel's CPU
 # OpenCL runtime beside PoCL (scripts/install_intel_opencl.sh; ARCHWAVE_INTEL_OPENCL=0 skips it).
-# Run as root.
+# Extra Debian packages may be named as arguments (scripts/fuzz.sh adds clang and its runtime
+# libraries). Run as root.
 set -euo pipefail
 packages=(
   cmake g++ make pkg-config python3
@@ -10,6 +11,7 @@ packages=(
   libembree-dev libopenexr-dev libglm-dev libpng-dev
   nlohmann-json3-dev libtinyobjloader-dev libtinygltf-dev libstb-dev libcli11-dev libgtest-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-venv
+  "$@"
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <system_error>
 
@@ -216,6 +217,40 @@ void write_exr(const std::string& path, const Image& img) {
   tmp.commit();
 }
 
+bool exr_header_sizes_fit(const unsigned char* b, size_t n, uint64_t file_size, std::string* why) {
+  // Layout (OpenEXR file layout, "Header"): magic (4), version (4; bit 12 = multi-part), then
+  // attributes: name\0 type\0 size (int32, little-endian) value; an empty name ends a header,
+  // and a multi-part file's list of headers ends with one more empty name.
+  if (n < 8) return true;
+  const bool multipart = (b[5] & 0x10) != 0;
+  size_t i = 8;
+  auto cstring = [&](size_t* at) {  // skips a NUL-terminated string; false if it runs past `head`
+    while (*at < n && b[*at] != 0) ++*at;
+    if (*at >= n) return false;
+    ++*at;
+    return true;
+  };
+  for (;;) {
+    if (i >= n) return true;
+    if (b[i] == 0) {  // the end of a header
+      ++i;
+      if (!multipart || i >= n || b[i] == 0) return true;
+      continue;
+    }
+    const size_t name = i;
+    if (!cstring(&i) || !cstring(&i) || i + 4 > n) return true;  // read further than `head`: OpenEXR checks the rest
+    const uint32_t size = uint32_t(b[i]) | (uint32_t(b[i + 1]) << 8) | (uint32_t(b[i + 2]) << 16) | (uint32_t(b[i + 3]) << 24);
+    i += 4;
+    if (uint64_t(size) > file_size - std::min<uint64_t>(file_size, i)) {
+      *why = "corrupt EXR header: attribute \"" + std::string(reinterpret_cast<const char*>(b + name)) + "\" declares " +
+             std::to_string(int32_t(size)) + " bytes, the file has " + std::to_string(file_size - std::min<uint64_t>(file_size, i)) +
+             " left";
+      return false;
+    }
+    i += size;
+  }
+}
+
 Image read_exr(const std::string& path) {
   static const char* kind = "EXR";
   {
@@ -223,6 +258,15 @@ Image read_exr(const std::string& path) {
     const fs::file_status st = fs::status(path, ec);
     if (st.type() == fs::file_type::not_found) fail_read(kind, path, "file does not exist");
     if (st.type() == fs::file_type::directory) fail_read(kind, path, "is a directory");
+  }
+  {
+    std::ifstream f(path, std::ios::binary);
+    std::vector<unsigned char> head(1 << 20);
+    f.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size()));
+    std::error_code ec;
+    const uint64_t file_size = fs::file_size(path, ec);
+    std::string why;
+    if (!ec && !exr_header_sizes_fit(head.data(), size_t(f.gcount()), file_size, &why)) fail_read(kind, path, why);
   }
   try {
     Imf::InputFile in(path.c_str(), 1);

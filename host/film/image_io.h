@@ -2,6 +2,7 @@
 // image comparison the renderer's tests are built on.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <stdexcept>
 #include <string>
@@ -37,6 +38,14 @@ void write_exr(const std::string& path, const Image& img);
 // attribute of the header. A data window not starting at (0,0) is read as if it did.
 // Throws OutputError naming path (missing file, not an EXR, truncated, missing channel).
 Image read_exr(const std::string& path);
+
+// OpenEXR (3.1, Debian 12) allocates an attribute's value by the size its header declares
+// before reading it: a 600-byte file declaring a 2 GB string made it allocate 2 GB (found by
+// tests/fuzz, fuzz_image, 2026-12-02). Walks the header(s) at the start of an EXR file
+// (`head`, `head_size` bytes of it; `file_size` the whole file's) and returns false with the
+// reason when an attribute declares more bytes than the file has left, or the header is
+// malformed within `head`. A header longer than `head` is accepted as far as it was read.
+bool exr_header_sizes_fit(const unsigned char* head, size_t head_size, uint64_t file_size, std::string* why);
 
 // 8-bit sRGB PNG: v * exposure_scale, clamped to [0,1], then the exact IEC 61966-2-1
 // piecewise curve, rounded to nearest. A pixel with any NaN/Inf channel is written black.

@@ -13,12 +13,14 @@
 #include <limits>
 #include <sstream>
 
-#define STB_IMAGE_IMPLEMENTATION
+// stb_image's implementation is compiled in host/scene/stb_image_impl.cpp, with the same
+// configuration (PNG and JPEG only, no stdio: files are read here, so every error path is ours).
 #define STBI_ONLY_PNG
 #define STBI_ONLY_JPEG
-#define STBI_NO_STDIO  // files are read here, so every error path is ours
+#define STBI_NO_STDIO
 #include <stb/stb_image.h>
 
+#include "host/film/image_io.h"
 #include "host/scene/texture_desc.h"
 
 namespace aw {
@@ -65,6 +67,11 @@ bool check_size(int w, int h, std::string* error) {
 }
 
 bool decode_exr(const unsigned char* bytes, size_t size, TextureDesc* t, std::string* error) {
+  std::string why;
+  if (!exr_header_sizes_fit(bytes, size, size, &why)) {
+    *error = why;
+    return false;
+  }
   try {
     MemoryIStream stream(bytes, size);
     Imf::InputFile in(stream, 1);
@@ -120,6 +127,56 @@ bool decode_exr(const unsigned char* bytes, size_t size, TextureDesc* t, std::st
   }
 }
 
+// stb_image 2.27 (Debian 12) trusts a JPEG Huffman table's sixteen code-length counts: their
+// sum may reach 16 x 255 = 4,080 where a table holds 256 symbols (ITU-T T.81 §B.2.4.2: 8-bit
+// symbols, so at most 256 codes), and stbi__build_huffman and the symbol copy then write past
+// the table (found by tests/fuzz, fuzz_image under UBSan, 2026-12-02). Every DHT segment is
+// checked here before stb_image sees the file: the markers are walked by their lengths, and the
+// entropy-coded data after a scan header is skipped to the next marker (a 0xFF not followed by
+// a stuffed 0x00 or a restart marker). Anything else malformed is left to stb_image to refuse.
+bool jpeg_huffman_tables_fit(const unsigned char* b, size_t n, std::string* why) {
+  // stb_image takes any run of 0xFF fill bytes before a marker, the first one included.
+  size_t i = 0;
+  while (i < n && b[i] == 0xFF) ++i;
+  if (i == 0 || i >= n || b[i] != 0xD8) return true;  // not a JPEG
+  ++i;
+  while (i + 1 < n) {
+    if (b[i] != 0xFF) {  // entropy-coded data
+      ++i;
+      continue;
+    }
+    const unsigned m = b[i + 1];
+    if (m == 0xFF) {  // a fill byte before a marker
+      ++i;
+      continue;
+    }
+    if (m == 0x00 || m == 0x01 || (m >= 0xD0 && m <= 0xD8)) {  // stuffed 0xFF, TEM, RSTn, SOI: no length
+      i += 2;
+      continue;
+    }
+    if (m == 0xD9 || i + 3 >= n) return true;  // EOI, or the file ends
+    const size_t len = (size_t(b[i + 2]) << 8) | size_t(b[i + 3]);
+    if (m == 0xC4) {
+      // As stb_image reads the segment: tables while the declared length lasts, even when the
+      // last one runs past the segment's end (bytes past the file's end read as 0).
+      auto at = [&](size_t p) -> size_t { return p < n ? b[p] : 0; };
+      int64_t left = int64_t(len) - 2;
+      for (size_t p = i + 4; left > 0;) {
+        size_t codes = 0;
+        for (size_t k = 1; k <= 16; ++k) codes += at(p + k);
+        if (codes > 256) {
+          *why = "a corrupt JPEG: a Huffman table declares " + std::to_string(codes) + " codes, at most 256 exist";
+          return false;
+        }
+        p += 17 + codes;
+        left -= int64_t(17 + codes);
+      }
+    }
+    i += 2 + std::max<size_t>(len, 2);
+  }
+  return true;
+}
+
 }  // namespace
 
 bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* t, std::string* error) {
@@ -127,6 +184,11 @@ bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* 
   if (size >= 4 && std::memcmp(bytes, kExrMagic, 4) == 0) return decode_exr(bytes, size, t, error);
   if (size > size_t(std::numeric_limits<int>::max())) {
     *error = "the image file is larger than 2 GiB";
+    return false;
+  }
+  std::string why;
+  if (!jpeg_huffman_tables_fit(bytes, size, &why)) {
+    *error = "cannot decode the image (" + why + ")";
     return false;
   }
   int w = 0, h = 0, n = 0;
