@@ -282,15 +282,24 @@ RTCBuildPrimitive triangle_prim(const TriangleSoup& soup, size_t i) {
 
 }  // namespace
 
-void instance_bounds(const TriangleSoup& soup, size_t instance, glm::vec3* lo, glm::vec3* hi) {
+std::vector<std::pair<glm::vec3, glm::vec3>> prototype_bounds(const TriangleSoup& soup) {
+  std::vector<std::pair<glm::vec3, glm::vec3>> out;
+  for (const SoupPrototype& pr : soup.prototypes) {
+    glm::vec3 plo(std::numeric_limits<float>::max()), phi(-std::numeric_limits<float>::max());
+    for (uint32_t i = pr.first_tri; i < pr.first_tri + pr.tri_count; ++i)
+      for (int k = 0; k < 3; ++k) {
+        plo = glm::min(plo, soup.positions[soup.indices[i][k]]);
+        phi = glm::max(phi, soup.positions[soup.indices[i][k]]);
+      }
+    out.emplace_back(plo, phi);
+  }
+  return out;
+}
+
+void instance_bounds(const TriangleSoup& soup, size_t instance, const std::vector<std::pair<glm::vec3, glm::vec3>>& protos,
+                     glm::vec3* lo, glm::vec3* hi) {
   const InstanceGpu& in = soup.instances[instance];
-  const SoupPrototype& pr = soup.prototypes[in.prototype];
-  glm::vec3 plo(std::numeric_limits<float>::max()), phi(-std::numeric_limits<float>::max());
-  for (uint32_t i = pr.first_tri; i < pr.first_tri + pr.tri_count; ++i)
-    for (int k = 0; k < 3; ++k) {
-      plo = glm::min(plo, soup.positions[soup.indices[i][k]]);
-      phi = glm::max(phi, soup.positions[soup.indices[i][k]]);
-    }
+  const glm::vec3 plo = protos[in.prototype].first, phi = protos[in.prototype].second;
   *lo = glm::vec3(std::numeric_limits<float>::max());
   *hi = glm::vec3(-std::numeric_limits<float>::max());
   for (int c = 0; c < 8; ++c) {
@@ -318,9 +327,10 @@ FlatBvh build_flat_bvh(const EmbreeDevice& device, const TriangleSoup& soup) {
 
   // The top-level tree: world triangles, spheres and instances (ids after the spheres').
   std::vector<RTCBounds> inst_bounds(soup.instances.size());
+  const auto protos = prototype_bounds(soup);
   for (size_t k = 0; k < soup.instances.size(); ++k) {
     glm::vec3 lo, hi;
-    instance_bounds(soup, k, &lo, &hi);
+    instance_bounds(soup, k, protos, &lo, &hi);
     inst_bounds[k] = RTCBounds{lo.x, lo.y, lo.z, 0.0f, hi.x, hi.y, hi.z, 0.0f};
   }
   std::vector<RTCBuildPrimitive> prims;

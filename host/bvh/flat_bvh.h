@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -51,9 +52,13 @@ struct TriangleSoup {
   size_t world_tris() const { return prototypes.empty() ? indices.size() : prototypes.front().first_tri; }
 };
 
-// World-space bounds of an instance: the prototype's object-space box carried through the
-// instance's transform (its eight corners).
-void instance_bounds(const TriangleSoup& soup, size_t instance, glm::vec3* lo, glm::vec3* hi);
+// Object-space bounds of each prototype (lo, hi), computed once for all its instances.
+std::vector<std::pair<glm::vec3, glm::vec3>> prototype_bounds(const TriangleSoup& soup);
+
+// World-space bounds of an instance: its prototype's object-space box (`protos`, from
+// prototype_bounds) carried through the instance's transform (its eight corners).
+void instance_bounds(const TriangleSoup& soup, size_t instance, const std::vector<std::pair<glm::vec3, glm::vec3>>& protos,
+                     glm::vec3* lo, glm::vec3* hi);
 
 struct FlatBvh {
   std::vector<BvhNode> nodes;        // nodes[0] is the root; empty for a scene with no triangles

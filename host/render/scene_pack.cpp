@@ -301,9 +301,10 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
       lo = glm::min(lo, ps.soup.positions[i]);
       hi = glm::max(hi, ps.soup.positions[i]);
     }
+    const auto protos = prototype_bounds(ps.soup);
     for (size_t k = 0; k < ps.soup.instances.size(); ++k) {
       glm::vec3 ilo, ihi;
-      instance_bounds(ps.soup, k, &ilo, &ihi);
+      instance_bounds(ps.soup, k, protos, &ilo, &ihi);
       lo = glm::min(lo, ilo);
       hi = glm::max(hi, ihi);
     }
