@@ -102,6 +102,13 @@ int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devic
     if (!want.empty() && lower(d.platform + " " + d.name + " " + d.type + " " + d.version).find(want) != std::string::npos)
       hits.push_back(d);
   if (hits.size() == 1) return hits[0].index;
+  // A platform's name outranks a device's: on an Intel Xeon, PoCL's device is named
+  // "pthread-...-Intel(R) Xeon(R) ...", and "intel" must still name Intel's runtime (its
+  // platform "Intel(R) OpenCL"), as it does on any other CPU.
+  std::vector<DeviceInfo> by_platform;
+  for (const auto& d : hits)
+    if (lower(d.platform).find(want) != std::string::npos) by_platform.push_back(d);
+  if (by_platform.size() == 1) return by_platform[0].index;
   if (hits.empty())
     throw ClError(label + ": no OpenCL device's platform, name, type or version contains it; available:\n" +
                   describe_devices(devices));

@@ -113,6 +113,17 @@ TEST(DeviceChoice, IndexOrUniqueCaseInsensitiveSubstring) {
   EXPECT_EQ(aw::resolve_device("h200", d), 2);
 }
 
+// On an Intel CPU PoCL's device name holds "Intel" too: the platform's name decides (seen on
+// a Xeon, where ARCHWAVE_DEVICE=intel matched both CPU devices, 2026-12-03).
+TEST(DeviceChoice, APlatformNameOutranksADeviceName) {
+  auto d = fake_devices();
+  d[0].name = "Intel(R) Xeon(R) Processor @ 2.80GHz";
+  d[1].name = "pthread-skylake-avx512-Intel(R) Xeon(R) Processor @ 2.80GHz";
+  EXPECT_EQ(aw::resolve_device("intel", d), 0);
+  EXPECT_EQ(aw::resolve_device("pocl", d), 1);
+  EXPECT_THROW(aw::resolve_device("xeon", d), aw::ClError);  // two device names, no platform: ambiguous
+}
+
 TEST(DeviceChoice, BadChoicesAreRefusedWithTheList) {
   std::string e = resolve_error("3");
   EXPECT_NE(e.find("--device 3: no such OpenCL device"), std::string::npos) << e;
