@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "host/film/image_io.h"
 #include "host/film/progress.h"
 #include "host/render/device_choice.h"
+#include "host/render/film_state.h"
 #include "host/render/render.h"
 #include "host/render/stats_json.h"
 #include "host/scene/export_obj.h"
@@ -76,7 +78,82 @@ static double parse_size(const std::string& s) {
   return v < 1.8e19 ? std::floor(v) : -1;
 }
 
+// Inside a catch: prints the exception's message after `prog` and returns its exit code.
+static int exit_code_for_exception(const char* prog) {
+  try {
+    throw;
+  } catch (const aw::SceneError& e) {
+    std::cerr << prog << ": " << e.what() << "\n";
+    return kScene;
+  } catch (const aw::ClError& e) {
+    std::cerr << prog << ": " << e.what() << "\n";
+    return kDevice;
+  } catch (const aw::OutputError& e) {
+    std::cerr << prog << ": " << e.what() << "\n";
+    return kOutput;
+  } catch (const std::exception& e) {
+    std::cerr << prog << ": internal error: " << e.what() << "\n";
+    return kInternal;
+  } catch (...) {
+    std::cerr << prog << ": internal error: an exception of unknown type\n";
+    return kInternal;
+  }
+}
+
+// "a,b,c,d" -> four numbers (false for anything else).
+static bool parse_four(const std::string& s, double out[4]) {
+  const char* p = s.c_str();
+  for (int i = 0; i < 4; ++i) {
+    char* end = nullptr;
+    out[i] = std::strtod(p, &end);
+    if (end == p || !std::isfinite(out[i])) return false;
+    p = end;
+    if (i < 3) {
+      if (*p != ',') return false;
+      ++p;
+    }
+  }
+  return *p == '\0';
+}
+
+// `archwave merge PART.exr ... -o OUT.exr` (docs/production.md).
+static int merge_main(int argc, char** argv) {
+  CLI::App app{"archwave merge - combine the parts of one render (--sample-range, --pixel-bounds, --crop-window) into one "
+               "image.\nParts over the same pixels add their samples; parts over other pixels are stitched. Exit codes: 0 ok, "
+               "2 bad command line, 3 parts that do not belong together, 5 a file cannot be read or written."};
+  std::vector<std::string> inputs;
+  std::string output;
+  bool quiet = false;
+  app.add_option("parts", inputs, "EXR files archwave wrote with their film state")->required();
+  app.add_option("-o,--output", output, "The merged EXR (with its film state; the PNG preview goes beside it)")->required();
+  app.add_flag("-q,--quiet", quiet, "Only errors");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);
+    return rc == 0 ? kOk : kUsage;
+  }
+  try {
+    check_output_writable(output);
+    std::vector<aw::FilmState> parts;
+    for (const std::string& in : inputs) parts.push_back(aw::read_film_state(in));
+    std::string report;
+    std::vector<std::string> warnings;
+    bool resumable = true;
+    aw::FilmState merged = aw::merge_films(parts, inputs, &report, &warnings, &resumable);
+    for (const auto& w : warnings) std::cerr << "archwave merge: warning: " << w << "\n";
+    aw::Image img = aw::film_image(merged, resumable);
+    aw::write_exr(output, img);
+    aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+    if (!quiet) std::cerr << report << "\nwrote " << output << " and " << aw::png_path_for(output) << "\n";
+    return kOk;
+  } catch (...) {
+    return exit_code_for_exception("archwave merge");
+  }
+}
+
 int main(int argc, char** argv) {
+  if (argc >= 2 && std::string(argv[1]) == "merge") return merge_main(argc - 1, argv + 1);
   CLI::App app{
       "archwave " ARCHWAVE_VERSION
       " - OpenCL wavefront path tracer with the Architectural material.\n"
@@ -152,6 +229,42 @@ int main(int argc, char** argv) {
             return parse_size(v) >= 0 ? std::string() : "'" + v + "' is not a size (bytes, or a number with K, M or G)";
           },
           "SIZE"));
+  std::string aovs;
+  app.add_option("--aovs", aovs,
+                 "AOVs written as layers of the EXR beside the beauty, comma-separated: albedo, normal, depth, position, "
+                 "material_id, emission, ao, diffuse, translucency, reflection, refraction, or light_groups for the last "
+                 "six (overrides render.aovs; docs/production.md#aovs)");
+  std::string sample_range, crop_window, pixel_bounds, resume;
+  double time_limit = 0.0, checkpoint = 0.0;
+  bool save_state = false;
+  auto positive_seconds = CLI::Validator(
+      [](std::string& v) -> std::string {
+        char* end = nullptr;
+        double d = std::strtod(v.c_str(), &end);
+        if (end == v.c_str() || *end != '\0' || !(d > 0.0) || !std::isfinite(d)) return "'" + v + "' is not a number of seconds > 0";
+        return {};
+      },
+      "SECONDS > 0");
+  app.add_option("--sample-range", sample_range,
+                 "Render only the samples START:END (0 <= START < END <= spp) of every pixel: a part of the render for "
+                 "'archwave merge' (docs/production.md)");
+  app.add_option("--crop-window", crop_window,
+                 "Render only the pixels x0,x1,y0,y1 given as fractions of the frame (as pbrt's: pixel bounds "
+                 "ceil(width * x0) .. ceil(width * x1)); the EXR's data window places them in the frame");
+  app.add_option("--pixel-bounds", pixel_bounds, "Render only the pixels [x0,x1) x [y0,y1) of the frame, given as x0,x1,y0,y1");
+  app.add_option("--time-limit", time_limit,
+                 "Stop once SECONDS have passed, at the end of the sample pass under way, and write the image with its "
+                 "true sample count and its film state (resume it with --resume)")
+      ->check(positive_seconds);
+  app.add_option("--checkpoint", checkpoint,
+                 "Write the image and its film state every SECONDS (atomically: a crash leaves the previous one)")
+      ->check(positive_seconds);
+  app.add_option("--resume", resume,
+                 "Continue the film in this EXR (a checkpoint, a time-limited, interrupted or --save-state render) to the "
+                 "requested spp; the result is bit for bit the uninterrupted render");
+  app.add_flag("--save-state", save_state,
+               "Write the film state into the EXR even for a complete render of the whole frame (to resume it later with "
+               "more samples or merge it)");
   app.add_option("--stats-json", stats_json,
                  "Also write the render's stats (times, stages, rays, memory) as JSON to this file");
   try {
@@ -181,6 +294,7 @@ int main(int argc, char** argv) {
     if (app.count("--seed")) overrides.push_back("render.seed=" + seed);
     if (app.count("--width")) overrides.push_back("render.width=" + width);
     if (app.count("--height")) overrides.push_back("render.height=" + height);
+    if (app.count("--aovs")) overrides.push_back("render.aovs=\"" + aovs + "\"");
     aw::LoadLimits limits;
     if (app.count("--max-memory")) {
       limits.max_bytes = uint64_t(parse_size(max_memory));
@@ -203,6 +317,99 @@ int main(int argc, char** argv) {
     if (!stats_json.empty()) check_output_writable(stats_json);
 
     aw::RenderOptions opts;
+    // Parts and resumption (docs/production.md).
+    std::unique_ptr<aw::RenderResult> resume_film;
+    if (!resume.empty()) {
+      aw::FilmState f;
+      try {
+        f = aw::read_film_state(resume);
+      } catch (const aw::OutputError& e) {
+        throw aw::SceneError(std::string("--resume: ") + e.what());
+      }
+      const std::string why_not = "\"" + resume + "\" cannot be resumed with this scene: ";
+      if (f.seed != scene.render.seed)
+        throw aw::SceneError(why_not + "its seed is " + std::to_string(f.seed) + ", the scene's " + std::to_string(scene.render.seed));
+      if (f.version != ARCHWAVE_VERSION)
+        throw aw::SceneError(why_not + "it was rendered by archwave " + f.version + ", this is " ARCHWAVE_VERSION +
+                             " (sample values may differ between versions)");
+      const std::string renderer = scalar ? "scalar" : "wavefront";
+      if (f.renderer != renderer)
+        throw aw::SceneError(why_not + "it was rendered by the " + f.renderer + " renderer, this render uses the " + renderer +
+                             (scalar ? "" : " (add --scalar)"));
+      if (f.frame_width != scene.render.width || f.frame_height != scene.render.height)
+        throw aw::SceneError(why_not + "its frame is " + std::to_string(f.frame_width) + "x" + std::to_string(f.frame_height) +
+                             ", the scene's " + std::to_string(scene.render.width) + "x" + std::to_string(scene.render.height));
+      opts.window = aw::PixelBounds{f.x0, f.x0 + f.width, f.y0, f.y0 + f.height};
+      opts.sample_start = f.sample_start;
+      // A part keeps its range; a whole render continues to the scene's (or --spp's) spp.
+      opts.sample_end = f.sample_end == f.spp_requested ? uint32_t(scene.render.spp) : f.sample_end;
+      resume_film = std::make_unique<aw::RenderResult>(aw::film_to_result(f));
+      opts.resume = resume_film.get();
+    }
+    if (!sample_range.empty()) {
+      unsigned a = 0, b = 0;
+      char tail = 0;
+      if (std::sscanf(sample_range.c_str(), "%u:%u%c", &a, &b, &tail) != 2 || sample_range[0] == '-' || !(a < b) ||
+          b > unsigned(scene.render.spp))
+        throw aw::SceneError("--sample-range " + sample_range + ": not START:END with 0 <= START < END <= spp (" +
+                             std::to_string(scene.render.spp) + ")");
+      if (opts.resume && (a != opts.sample_start || b < opts.sample_end))
+        throw aw::SceneError("--sample-range " + sample_range + " is not the range of \"" + resume + "\" (" +
+                             std::to_string(opts.sample_start) + ":" + std::to_string(opts.sample_end) + ")");
+      opts.sample_start = a;
+      opts.sample_end = b;
+    }
+    if (!crop_window.empty() && !pixel_bounds.empty()) throw aw::SceneError("give --crop-window or --pixel-bounds, not both");
+    aw::PixelBounds window;
+    if (!crop_window.empty()) {
+      double c[4];
+      if (!parse_four(crop_window, c) || !(0.0 <= c[0] && c[0] < c[1] && c[1] <= 1.0 && 0.0 <= c[2] && c[2] < c[3] && c[3] <= 1.0))
+        throw aw::SceneError("--crop-window " + crop_window + ": not x0,x1,y0,y1 with 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1");
+      // pbrt's rule (pbrt-v4, Film's pixel bounds from the crop window): ceil at both ends,
+      // so windows that share an edge share no pixel and miss none.
+      const double w = scene.render.width, h = scene.render.height;
+      window = aw::PixelBounds{int(std::ceil(w * c[0])), int(std::ceil(w * c[1])), int(std::ceil(h * c[2])), int(std::ceil(h * c[3]))};
+      if (window.empty()) throw aw::SceneError("--crop-window " + crop_window + " holds no pixel of the " +
+                                              std::to_string(scene.render.width) + "x" + std::to_string(scene.render.height) + " frame");
+    } else if (!pixel_bounds.empty()) {
+      double c[4];
+      if (!parse_four(pixel_bounds, c) || c[0] != std::floor(c[0]) || c[1] != std::floor(c[1]) || c[2] != std::floor(c[2]) ||
+          c[3] != std::floor(c[3]) || !(0 <= c[0] && c[0] < c[1] && c[1] <= scene.render.width && 0 <= c[2] && c[2] < c[3] &&
+                                        c[3] <= scene.render.height))
+        throw aw::SceneError("--pixel-bounds " + pixel_bounds + ": not whole pixels x0,x1,y0,y1 with 0 <= x0 < x1 <= " +
+                             std::to_string(scene.render.width) + " and 0 <= y0 < y1 <= " + std::to_string(scene.render.height));
+      window = aw::PixelBounds{int(c[0]), int(c[1]), int(c[2]), int(c[3])};
+    }
+    if (!window.empty()) {
+      if (opts.resume && (window.x0 != opts.window.x0 || window.x1 != opts.window.x1 || window.y0 != opts.window.y0 ||
+                          window.y1 != opts.window.y1))
+        throw aw::SceneError("the pixel bounds asked for are not those of \"" + resume + "\"");
+      opts.window = window;
+    }
+    const bool whole_frame = opts.window.empty() || (opts.window.x0 == 0 && opts.window.y0 == 0 &&
+                                                     opts.window.x1 == scene.render.width && opts.window.y1 == scene.render.height);
+    const bool a_part = !whole_frame || opts.sample_start != 0 ||
+                        (opts.sample_end != 0 && opts.sample_end != uint32_t(scene.render.spp));
+    // The film state goes into the EXR whenever the image is, or may become, part of more.
+    const bool with_state = save_state || a_part || checkpoint > 0.0 || time_limit > 0.0 || opts.resume;
+    if (a_part) {
+      opts.progress_label = "rendering part";
+      if (!whole_frame)
+        opts.progress_label += " " + std::to_string(opts.window.x0) + "," + std::to_string(opts.window.x1) + "," +
+                               std::to_string(opts.window.y0) + "," + std::to_string(opts.window.y1);
+      if (opts.sample_start != 0 || opts.sample_end != 0)
+        opts.progress_label += " samples " + std::to_string(opts.sample_start) + ":" +
+                               std::to_string(opts.sample_end ? opts.sample_end : uint32_t(scene.render.spp));
+    }
+    opts.time_limit = time_limit;
+    opts.checkpoint_seconds = checkpoint;
+    if (checkpoint > 0.0)
+      opts.checkpoint = [&](const aw::RenderResult& partial) {
+        aw::Image img = partial.image(scene, true);
+        img.string_attrs["archwave:checkpoint"] = "yes";
+        aw::write_exr(output, img);
+        aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+      };
     std::string device_choice;
     if (!scalar && !device.empty()) {
       opts.device = aw::resolve_device(device, aw::list_devices());
@@ -225,30 +432,24 @@ int main(int argc, char** argv) {
     aw::RenderResult r = scalar ? aw::render_scalar(scene, opts) : aw::render_wavefront(scene, opts);
     r.stats.device_choice = device_choice;
     for (const auto& w : r.stats.warnings) std::cerr << "archwave: warning: " << w << "\n";
-    aw::Image img = r.image(scene);
+    aw::Image img = r.image(scene, with_state || r.stats.interrupted);
     aw::write_exr(output, img);
     std::string png = aw::png_path_for(output);
     // The EXR already holds radiance x exposure; the preview adds only the sRGB curve.
     aw::write_png_preview(png, img, 1.0f);
     if (!stats_json.empty()) aw::write_stats_json(stats_json, r, scene);
     if (!quiet) std::cerr << r.stats.summary();
-    std::cerr << "wrote " << output << " and " << png << " (" << r.min_spp() << " spp)\n";
+    std::cerr << "wrote " << output << " and " << png << " (" << r.min_spp() << " spp";
+    if (a_part) std::cerr << " of the samples " << r.sample_start << ":" << r.sample_end;
+    std::cerr << ")\n";
+    if (r.stats.time_limited)
+      std::cerr << "archwave: time limit reached; resume with --resume " << output << "\n";
     if (r.stats.interrupted) {
       std::cerr << "archwave: interrupted; the image holds the samples completed so far\n";
       return kInterrupted;
     }
     return kOk;
-  } catch (const aw::SceneError& e) {
-    std::cerr << "archwave: " << e.what() << "\n";
-    return kScene;
-  } catch (const aw::ClError& e) {
-    std::cerr << "archwave: " << e.what() << "\n";
-    return kDevice;
-  } catch (const aw::OutputError& e) {
-    std::cerr << "archwave: " << e.what() << "\n";
-    return kOutput;
-  } catch (const std::exception& e) {
-    std::cerr << "archwave: internal error: " << e.what() << "\n";
-    return kInternal;
+  } catch (...) {
+    return exit_code_for_exception("archwave");
   }
 }

@@ -52,6 +52,10 @@ void check_image_for_write(const char* kind, const std::string& path, const Imag
                "image holds " + std::to_string(img.rgb.size()) + " floats, " +
                    std::to_string(img.width) + "x" + std::to_string(img.height) + " RGB needs " +
                    std::to_string(expected));
+  if (img.x0 < 0 || img.y0 < 0 ||
+      (img.frame_width > 0 && (img.frame_height <= 0 || int64_t(img.x0) + img.width > img.frame_width ||
+                               int64_t(img.y0) + img.height > img.frame_height)))
+    fail_write(kind, path, "the image's window lies outside its frame");
 }
 
 // "<path>.tmp", opened for writing, that becomes path only through commit(). Destroying it
@@ -178,11 +182,23 @@ void write_exr(const std::string& path, const Image& img) {
   static const char* kind = "EXR";
   check_image_for_write(kind, path, img);
 
-  Imf::Header header(img.width, img.height);
+  const int fw = img.frame_width > 0 ? img.frame_width : img.width;
+  const int fh = img.frame_height > 0 ? img.frame_height : img.height;
+  const Imath::Box2i display(Imath::V2i(0, 0), Imath::V2i(fw - 1, fh - 1));
+  const Imath::Box2i data(Imath::V2i(img.x0, img.y0), Imath::V2i(img.x0 + img.width - 1, img.y0 + img.height - 1));
+  Imf::Header header(display, data);
   header.compression() = Imf::ZIP_COMPRESSION;
   header.channels().insert("R", Imf::Channel(Imf::FLOAT));
   header.channels().insert("G", Imf::Channel(Imf::FLOAT));
   header.channels().insert("B", Imf::Channel(Imf::FLOAT));
+  const size_t npix = size_t(img.width) * size_t(img.height);
+  for (const ImageChannel& c : img.channels) {
+    if (c.name.empty() || c.name == "R" || c.name == "G" || c.name == "B" || header.channels().findChannel(c.name))
+      fail_write(kind, path, "channel " + in_quotes(c.name) + " is empty or given twice");
+    if ((c.u.empty() ? c.f.size() : c.u.size()) != npix || (!c.u.empty() && !c.f.empty()))
+      fail_write(kind, path, "channel " + in_quotes(c.name) + " does not hold one value per pixel");
+    header.channels().insert(c.name, Imf::Channel(c.u.empty() ? Imf::FLOAT : Imf::UINT));
+  }
   for (const auto& [name, value] : img.string_attrs) {
     if (img.int_attrs.count(name))
       fail_write(kind, path, "attribute " + in_quotes(name) + " given both as int and as string");
@@ -199,9 +215,14 @@ void write_exr(const std::string& path, const Image& img) {
   const size_t xs = 3 * sizeof(float);
   const size_t ys = xs * size_t(img.width);
   Imf::FrameBuffer fb;
-  fb.insert("R", Imf::Slice(Imf::FLOAT, base + 0 * sizeof(float), xs, ys));
-  fb.insert("G", Imf::Slice(Imf::FLOAT, base + 1 * sizeof(float), xs, ys));
-  fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+  fb.insert("R", Imf::Slice::Make(Imf::FLOAT, base + 0 * sizeof(float), data, xs, ys));
+  fb.insert("G", Imf::Slice::Make(Imf::FLOAT, base + 1 * sizeof(float), data, xs, ys));
+  fb.insert("B", Imf::Slice::Make(Imf::FLOAT, base + 2 * sizeof(float), data, xs, ys));
+  for (const ImageChannel& c : img.channels) {
+    const bool u = !c.u.empty();
+    const void* p = u ? static_cast<const void*>(c.u.data()) : static_cast<const void*>(c.f.data());
+    fb.insert(c.name, Imf::Slice::Make(u ? Imf::UINT : Imf::FLOAT, const_cast<void*>(p), data, 4, 4 * size_t(img.width)));
+  }
 
   TmpFile tmp(kind, path);
   StdioOStream stream(tmp.file(), tmp.tmp_path());
@@ -288,6 +309,11 @@ Image read_exr(const std::string& path) {
     Image img;
     img.width = int(w);
     img.height = int(h);
+    img.x0 = dw.min.x;
+    img.y0 = dw.min.y;
+    const Imath::Box2i disp = header.displayWindow();
+    img.frame_width = disp.max.x - disp.min.x + 1;
+    img.frame_height = disp.max.y - disp.min.y + 1;
     img.rgb.assign(size_t(w) * size_t(h) * 3, 0.0f);
 
     char* base = reinterpret_cast<char*>(img.rgb.data());
@@ -297,6 +323,22 @@ Image read_exr(const std::string& path) {
     fb.insert("R", Imf::Slice::Make(Imf::FLOAT, base + 0 * sizeof(float), dw, xs, ys));
     fb.insert("G", Imf::Slice::Make(Imf::FLOAT, base + 1 * sizeof(float), dw, xs, ys));
     fb.insert("B", Imf::Slice::Make(Imf::FLOAT, base + 2 * sizeof(float), dw, xs, ys));
+    for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+      const std::string name = it.name();
+      if (name == "R" || name == "G" || name == "B") continue;
+      if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+        fail_read(kind, path, "channel " + name + " is subsampled, which is not supported");
+      ImageChannel c;
+      c.name = name;
+      if (it.channel().type == Imf::UINT) c.u.assign(size_t(w) * size_t(h), 0u);
+      else c.f.assign(size_t(w) * size_t(h), 0.0f);
+      img.channels.push_back(std::move(c));
+    }
+    for (ImageChannel& c : img.channels) {
+      const bool u = !c.u.empty();
+      void* p = u ? static_cast<void*>(c.u.data()) : static_cast<void*>(c.f.data());
+      fb.insert(c.name, Imf::Slice::Make(u ? Imf::UINT : Imf::FLOAT, p, dw, 4, 4 * size_t(w)));
+    }
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);
 

@@ -10,10 +10,22 @@
 
 namespace aw {
 
+// A channel besides R, G, B: a layer's channel as compositors name them ("albedo.R"), or the
+// film state of docs/production.md ("archwave_film.N"). One of f / u holds width * height values.
+struct ImageChannel {
+  std::string name;
+  std::vector<float> f;     // written as FLOAT when u is empty
+  std::vector<uint32_t> u;  // written as UINT
+};
+
 // A linear RGB image as the renderer hands it over.
 struct Image {
   int width = 0, height = 0;
   std::vector<float> rgb;  // 3 floats per pixel, row-major, top row first
+  // Where the pixels lie in the frame (EXR's data window inside its display window): a crop
+  // of a frame_width x frame_height frame at (x0, y0). 0 x 0 = the frame is the image.
+  int x0 = 0, y0 = 0, frame_width = 0, frame_height = 0;
+  std::vector<ImageChannel> channels;  // written after R, G, B; read back by read_exr
   // Written as EXR header attributes under exactly these names (e.g. "spp", "seed",
   // "archwave:device"). A name must not clash with a standard EXR attribute of another
   // type ("compression", "dataWindow", ...) nor appear in both maps; such a write fails.
@@ -34,8 +46,9 @@ class OutputError : public std::runtime_error {
 // Throws OutputError (also for an empty image or rgb.size() != width*height*3).
 void write_exr(const std::string& path, const Image& img);
 
-// Reads R,G,B as float (the file must have all three channels) and every int and string
-// attribute of the header. A data window not starting at (0,0) is read as if it did.
+// Reads R,G,B as float (the file must have all three channels), every other channel (FLOAT
+// or HALF as f, UINT as u) and every int and string attribute of the header. The data window
+// gives width, height, x0 and y0; the display window frame_width and frame_height.
 // Throws OutputError naming path (missing file, not an EXR, truncated, missing channel).
 Image read_exr(const std::string& path);
 

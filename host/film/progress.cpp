@@ -80,7 +80,12 @@ std::string ProgressLine::format_line(uint64_t done, double elapsed) const {
   char pct[16];
   std::snprintf(pct, sizeof pct, "%.1f%%", fraction * 100.0);
   return label_ + "  " + pct + "  elapsed " + format_duration(elapsed) + "  ETA " + eta + "  " +
-         format_rate(rate);
+         format_rate(rate) + (note_.empty() ? "" : "  " + note_);
+}
+
+void ProgressLine::set_note(const std::string& note) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  note_ = note;
 }
 
 void ProgressLine::draw_locked(Clock::time_point now) {

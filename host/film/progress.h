@@ -36,6 +36,8 @@ class ProgressLine {
   void update(uint64_t done_samples);
   // Idempotent; update() after finish() is ignored.
   void finish();
+  // Text shown after the rate, e.g. "checkpoint 3 written"; "" shows nothing.
+  void set_note(const std::string& note);
 
   // The text update()/finish() would draw, without '\r'; exposed for tests.
   std::string format_line(uint64_t done_samples, double elapsed_seconds) const;
@@ -45,6 +47,7 @@ class ProgressLine {
   void draw_locked(Clock::time_point now);
 
   std::string label_;
+  std::string note_;
   uint64_t total_;
   bool enabled_;
   bool finished_ = false;

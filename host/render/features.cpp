@@ -8,6 +8,8 @@
 #include "kernels/material/architectural.h"
 #include "kernels/material/lobe_list.h"
 
+static_assert(AW_FEATURE_COUNT <= 32, "feature bits are a 32-bit mask (kernels/common/features.h, AW_FEATURES)");
+
 namespace aw {
 
 FeatureSet FeatureSet::all() {
@@ -72,6 +74,7 @@ FeatureSet decide_features(const PackedScene& scene, const RenderSettings& setti
   // The sampler (Sobol' is in every build).
   if (settings.sampler == RenderSettings::Sampler::Independent) f.on[FeatureSet::SAMPLER_INDEPENDENT] = true;
   if (settings.sampler == RenderSettings::Sampler::ZSobol) f.on[FeatureSet::SAMPLER_ZSOBOL] = true;
+  if (settings.aovs != 0) f.on[FeatureSet::AOV] = true;
   // Per-lobe samples split the first hit's rays (docs/material.md §6) only when some lobe that
   // a material can choose at all gets n = round(samples / spp) >= 2; otherwise splitting
   // changes nothing and the kernels are built without it (kernels/integrator/split.h).

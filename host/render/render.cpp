@@ -6,6 +6,9 @@
 
 #include "host/cl/cl_runtime.h"
 #include "host/film/progress.h"
+#include "host/render/film_state.h"
+#include "kernels/integrator/aov.h"
+#include "kernels/integrator/film.h"
 
 namespace aw {
 
@@ -14,28 +17,118 @@ uint32_t RenderResult::min_spp() const {
   return *std::min_element(count.begin(), count.end());
 }
 
-Image RenderResult::image(const Scene& scene) const {
-  Image img;
-  img.width = width;
-  img.height = height;
-  img.rgb.resize(sum.size());
-  for (size_t p = 0; p < count.size(); ++p) {
-    float inv = count[p] ? 1.0f / float(count[p]) : 0.0f;
-    for (int c = 0; c < 3; ++c) img.rgb[p * 3 + c] = sum[p * 3 + c] * inv;
+void RenderResult::update_sums() {
+  sum.resize(count.size() * 3);
+  for (size_t i = 0; i < sum.size(); ++i) sum[i] = float(film_word_value(&acc[i * 2]));
+}
+
+Image RenderResult::image(const Scene& scene, bool with_state) const {
+  FilmState f = film_state(*this, scene);
+  return film_image(f, with_state);
+}
+
+FilmState film_state(const RenderResult& r, const Scene& scene) {
+  FilmState f;
+  f.width = r.width;
+  f.height = r.height;
+  f.x0 = r.x0;
+  f.y0 = r.y0;
+  f.frame_width = r.frame_width > 0 ? r.frame_width : r.width;
+  f.frame_height = r.frame_height > 0 ? r.frame_height : r.height;
+  f.sample_start = r.sample_start;
+  f.sample_end = r.sample_end;
+  f.scene_hash = r.scene_hash;
+  f.acc = r.acc;
+  f.count = r.count;
+  f.aov_mask = r.aov_mask;
+  f.aov_acc = r.aov_acc;
+  f.exposure = exposure_map(scene.camera);
+  f.spp_requested = uint32_t(scene.render.spp);
+  f.seed = scene.render.seed;
+  f.max_depth = scene.render.max_depth;
+  f.version = ARCHWAVE_VERSION;
+  f.renderer = r.stats.renderer;
+  f.device = r.stats.device;
+  f.scene_path = scene.path;
+  f.interrupted = r.stats.interrupted;
+  f.time_limited = r.stats.time_limited;
+  return f;
+}
+
+uint32_t begin_film(const Scene& scene, const RenderOptions& opts, const PackedScene& packed, RenderParams& rp,
+                    RenderResult& res) {
+  const int fw = int(rp.width), fh = int(rp.height);
+  PixelBounds win = opts.window;
+  if (win.empty()) {
+    if (win.x0 != 0 || win.x1 != 0 || win.y0 != 0 || win.y1 != 0)
+      throw SceneError("pixel bounds " + std::to_string(win.x0) + "," + std::to_string(win.x1) + "," + std::to_string(win.y0) +
+                       "," + std::to_string(win.y1) + " hold no pixel (x0 < x1 and y0 < y1 are needed)");
+    win = PixelBounds{0, fw, 0, fh};
   }
-  // Exposure is applied here so the EXR holds exposed radiance (docs/scene-format.md,
-  // camera.exposure): x k, and in photographic mode white balance and vignetting.
-  apply_exposure(scene.camera, width, height, img.rgb.data());
-  img.int_attrs["spp"] = int(min_spp());
-  img.int_attrs["spp_requested"] = scene.render.spp;
-  img.int_attrs["seed"] = int(scene.render.seed);
-  img.int_attrs["max_depth"] = scene.render.max_depth;
-  img.string_attrs["archwave:version"] = ARCHWAVE_VERSION;
-  img.string_attrs["archwave:renderer"] = stats.renderer;
-  img.string_attrs["archwave:device"] = stats.device;
-  img.string_attrs["archwave:scene"] = scene.path;
-  if (stats.interrupted) img.string_attrs["archwave:interrupted"] = "yes";
-  return img;
+  if (win.x0 < 0 || win.y0 < 0 || win.x1 > fw || win.y1 > fh)
+    throw SceneError("pixel bounds " + std::to_string(win.x0) + "," + std::to_string(win.x1) + "," + std::to_string(win.y0) +
+                     "," + std::to_string(win.y1) + " are not inside the " + std::to_string(fw) + "x" + std::to_string(fh) +
+                     " frame");
+  const uint32_t spp = uint32_t(scene.render.spp);
+  const uint32_t start = opts.sample_start, end = opts.sample_end ? opts.sample_end : spp;
+  if (!(start < end) || end > spp)
+    throw SceneError("sample range " + std::to_string(start) + ":" + std::to_string(end) +
+                     " is not a non-empty part of the render's " + std::to_string(spp) + " samples (0 <= START < END <= spp)");
+  res.frame_width = fw;
+  res.frame_height = fh;
+  res.x0 = win.x0;
+  res.y0 = win.y0;
+  res.width = win.x1 - win.x0;
+  res.height = win.y1 - win.y0;
+  res.sample_start = start;
+  res.sample_end = end;
+  res.scene_hash = scene_identity(packed);
+  const size_t npix = size_t(res.width) * size_t(res.height);
+  rp.win_x0 = uint32_t(win.x0);
+  rp.win_y0 = uint32_t(win.y0);
+  rp.win_w = uint32_t(res.width);
+  rp.win_h = uint32_t(res.height);
+  rp.sample_start = start;
+  uint32_t first = start;
+  if (const RenderResult* r = opts.resume) {
+    auto bounds = [](const RenderResult& x) {
+      return std::to_string(x.x0) + "," + std::to_string(x.x0 + x.width) + "," + std::to_string(x.y0) + "," +
+             std::to_string(x.y0 + x.height) + " of " + std::to_string(x.frame_width) + "x" + std::to_string(x.frame_height);
+    };
+    if (r->scene_hash != res.scene_hash)
+      throw SceneError("the film to resume was rendered from another scene (its scene hash differs: a material, light, mesh, "
+                       "camera, seed, depth or sampler setting is not the same)");
+    if (r->frame_width != fw || r->frame_height != fh || r->x0 != res.x0 || r->y0 != res.y0 || r->width != res.width ||
+        r->height != res.height)
+      throw SceneError("the film to resume covers pixels " + bounds(*r) + ", this render " + bounds(res));
+    if (r->sample_start != start)
+      throw SceneError("the film to resume starts at sample " + std::to_string(r->sample_start) + ", this render at " +
+                       std::to_string(start));
+    if (r->acc.size() != npix * AW_FILM_WORDS || r->count.size() != npix)
+      throw SceneError("the film to resume does not hold one film value per pixel");
+    if (r->aov_mask != rp.aov_mask)
+      throw SceneError("the film to resume holds the AOVs \"" + aov_mask_names(r->aov_mask) + "\", this render asks for \"" +
+                       aov_mask_names(rp.aov_mask) + "\"");
+    res.acc = r->acc;
+    res.count = r->count;
+    res.aov_mask = r->aov_mask;
+    res.aov_acc = r->aov_acc;
+    uint32_t lo = UINT32_MAX;
+    for (uint32_t c : res.count) {
+      lo = std::min(lo, c);
+      res.stats.resumed_samples += c;
+      if (c > end - start)
+        throw SceneError("the film to resume holds " + std::to_string(c) + " samples in a pixel, more than the " +
+                         std::to_string(end - start) + " this render asks for");
+    }
+    first = start + lo;
+  } else {
+    res.acc.assign(npix * AW_FILM_WORDS, 0ull);
+    res.count.assign(npix, 0u);
+    res.aov_mask = rp.aov_mask;
+    res.aov_acc.assign(npix * aov_film_channels(rp.aov_mask) * 2, 0ull);
+  }
+  return first;
 }
 
 std::string RenderStats::summary() const {
@@ -81,6 +174,9 @@ std::string RenderStats::summary() const {
     if (device_bytes) s << ", all device buffers " << format_bytes(device_bytes);
     s << "\n";
   }
+  if (resumed_samples) s << "resumed         from a film holding " << resumed_samples << " samples\n";
+  if (checkpoints) s << "checkpoints     " << checkpoints << " written\n";
+  if (time_limited) s << "TIME LIMIT      stopped at a whole sample pass; the image holds every sample until then\n";
   if (interrupted) s << "INTERRUPTED     the image holds the samples completed before the interrupt\n";
   return s.str();
 }

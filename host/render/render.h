@@ -3,15 +3,26 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
 
 #include "host/cl/cl_runtime.h"
 #include "host/film/image_io.h"
+#include "host/render/scene_pack.h"
 #include "host/scene/scene.h"
 
 namespace aw {
+
+struct RenderResult;
+
+// A rectangle of frame pixels, [x0, x1) x [y0, y1), as pbrt's --pixelbounds; empty (the
+// default) = the whole frame.
+struct PixelBounds {
+  int x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
 
 struct RenderOptions {
   int device = kDefaultDevice;  // OpenCL device index (wavefront only); kDefaultDevice: see cl_runtime.h
@@ -22,11 +33,26 @@ struct RenderOptions {
   double dense_fraction = -1.0;
   int threads = 0;            // scalar path threads; 0 = hardware concurrency
   bool progress = false;      // progress line on stderr
+  std::string progress_label;  // its label ("" = "rendering"), e.g. naming the part
   std::string kernel_dir;     // "" = embedded kernels
   std::string build_options;  // extra OpenCL build options (never fast-math in tests)
   bool generic_kernels = false;  // build every feature in, not just what the scene uses
   std::vector<std::string> force_off;  // feature names to compile out anyway (tests of the guard)
   const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
+  // Parts of a frame (docs/production.md). The film covers `window` (empty: the whole frame)
+  // and each of its pixels the samples [sample_start, sample_end) (sample_end 0: render.spp).
+  PixelBounds window;
+  uint32_t sample_start = 0, sample_end = 0;
+  // > 0: once this many seconds have passed since the render began, finish the sample pass
+  // under way (every pixel one more sample) and stop there (stats.time_limited).
+  double time_limit = 0.0;
+  // > 0: call `checkpoint` with the film so far (acc, count; stats so far) this often, at
+  // batch ends (the wavefront) or pass ends (the scalar path).
+  double checkpoint_seconds = 0.0;
+  std::function<void(const RenderResult&)> checkpoint;
+  // Continue this film (its acc and count) instead of an empty one: same scene (scene_hash),
+  // window and sample_start; samples up to sample_end (which may exceed the film's).
+  const RenderResult* resume = nullptr;
 };
 
 struct RenderStats {
@@ -58,21 +84,46 @@ struct RenderStats {
   size_t film_bytes = 0;    // film, per-pixel sample counts and the batch's sample buffer
   size_t device_bytes = 0;  // every device buffer of the render (wavefront)
   bool interrupted = false;
+  bool time_limited = false;   // stopped by RenderOptions::time_limit at a whole sample pass
+  uint32_t checkpoints = 0;    // films handed to RenderOptions::checkpoint
+  uint64_t resumed_samples = 0;  // samples the film held when the render began (--resume)
   std::vector<std::string> warnings;
   std::string summary() const;  // multi-line human-readable stats
 };
 
+// The film: what a render (or a part of one) holds. width x height pixels at (x0, y0) of a
+// frame_width x frame_height frame; pixel p holds the samples [sample_start, sample_start +
+// count[p]) of the samples [sample_start, sample_end) the render covers.
 struct RenderResult {
   int width = 0, height = 0;
-  std::vector<float> sum;        // per pixel RGB sums, summed in sample order
+  int x0 = 0, y0 = 0, frame_width = 0, frame_height = 0;
+  uint32_t sample_start = 0, sample_end = 0;
+  uint64_t scene_hash = 0;       // scene_identity (host/render/scene_pack.h)
+  std::vector<uint64_t> acc;     // per pixel AW_FILM_WORDS: exact RGB sums (kernels/integrator/film.h)
+  std::vector<float> sum;        // per pixel RGB: acc's sums rounded to float
   std::vector<uint32_t> count;   // samples per pixel
+  // AOVs (kernels/integrator/aov.h): the mask the render wrote and, per pixel, the exact
+  // signed sums of their aov_film_channels(aov_mask) channels, 2 words each.
+  uint32_t aov_mask = 0;
+  std::vector<uint64_t> aov_acc;
   RenderStats stats;
   uint32_t min_spp() const;
-  // The averaged image with spp/seed/device in its header attributes.
-  Image image(const Scene& scene) const;
+  // Fills `sum` from `acc`.
+  void update_sums();
+  // The averaged, exposed image with spp/seed/device in its header attributes; with_state adds
+  // what resuming and merging need (docs/production.md: the archwave_film channels).
+  Image image(const Scene& scene, bool with_state = false) const;
 };
 
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts);
+
+// Both renderers' start: sets res's film (window, sample range, scene_hash; acc and count
+// empty or the resumed film's) from the scene, the options and the scene's parameters, and
+// narrows rp to the window and sample_start. Returns the first sample some pixel lacks.
+// Throws SceneError for a window outside the frame, an empty or out-of-range sample range,
+// or a resume film of another scene, window or range (naming what differs).
+uint32_t begin_film(const Scene& scene, const RenderOptions& opts, const PackedScene& packed, RenderParams& rp,
+                    RenderResult& res);
 RenderResult render_scalar(const Scene& scene, const RenderOptions& opts);
 
 }  // namespace aw

@@ -457,6 +457,10 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   rp.aspect = float(rs.width) / float(rs.height);
   rp.width = uint32_t(rs.width);
   rp.height = uint32_t(rs.height);
+  // The whole frame and every sample until the renderer narrows them (render.cpp, plan_film).
+  rp.win_w = rp.width;
+  rp.win_h = rp.height;
+  rp.aov_mask = rs.aovs;
   rp.seed = rs.seed;
   rp.max_depth = uint32_t(rs.max_depth);
   rp.gi = rs.gi ? 1u : 0u;
@@ -488,9 +492,62 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   // The scene's features, decided once (host/render/features.cpp), and what follows from them.
   ps.features = decide_features(ps, rs);
   rp.split_spp = ps.features.on[FeatureSet::SPLIT] ? uint32_t(rs.spp) : 0u;
-  rp.ao_split_spp = rs.lobe_splitting ? uint32_t(rs.spp) : 0u;  // ao.samples split like a lobe's
+  // ao.samples split like a lobe's; 0 without AO, where it would change nothing (and would
+  // tie the scene's identity, scene_identity, to spp).
+  rp.ao_split_spp = rs.lobe_splitting && ps.features.on[FeatureSet::AO] ? uint32_t(rs.spp) : 0u;
   return ps;
 }
 
-}  // namespace aw
+namespace {
 
+struct Fnv1a {
+  uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, size_t n) {
+    const unsigned char* b = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  }
+  template <class T>
+  void vec(const std::vector<T>& v) {
+    const uint64_t n = v.size();
+    bytes(&n, sizeof n);  // lengths too, so [a][bc] and [ab][c] differ
+    if (!v.empty()) bytes(v.data(), v.size() * sizeof(T));
+  }
+};
+
+}  // namespace
+
+uint64_t scene_identity(const PackedScene& p) {
+  Fnv1a f;
+  f.vec(p.soup.positions);
+  f.vec(p.soup.indices);
+  f.vec(p.soup.spheres);
+  for (const SoupPrototype& pr : p.soup.prototypes) {
+    f.bytes(&pr.first_tri, sizeof pr.first_tri);
+    f.bytes(&pr.tri_count, sizeof pr.tri_count);
+  }
+  f.vec(p.soup.instances);
+  f.vec(p.tri_info);
+  f.vec(p.verts);
+  f.vec(p.materials);
+  f.vec(p.lights);
+  f.vec(p.env);
+  f.vec(p.light_tree);
+  f.vec(p.tri_light);
+  f.vec(p.textures);
+  f.vec(p.tex_bindings);
+  f.vec(p.texels);
+  RenderParams rp = p.params;
+  rp.pool_size = 0;
+  rp.batch_pixel = rp.batch_sample = rp.job_count = 0;
+  rp.num_nodes = 0;  // the BVH's, set by the wavefront: not part of what is rendered
+  rp.win_x0 = rp.win_y0 = rp.win_w = rp.win_h = 0;
+  rp.sample_start = 0;
+  rp.aov_mask = 0;  // which AOVs are kept changes no sample's value (begin_film checks it apart)
+  // zsobol's layout depends on spp (rng.h); the other samplers' numbers do not, so a film of
+  // theirs may be resumed to more samples.
+  if (rp.sampler != AW_SAMPLER_ZSOBOL) rp.sampler_log2_spp = rp.sampler_bits = 0;
+  f.bytes(&rp, sizeof rp);
+  return f.h;
+}
+
+}  // namespace aw

@@ -48,4 +48,12 @@ inline size_t packed_arrays_bytes(const PackedScene& p) {
          p.textures.size() * sizeof(TextureGpu) + p.tex_bindings.size() * sizeof(TexBindingGpu) + p.texels.size();
 }
 
+// What a sample's value depends on, as a 64-bit hash (FNV-1a over bytes): every array the
+// renderers read and the render parameters except the per-launch ones (batch, pool) and the
+// film's window and sample range, which select samples without changing any. Parts and
+// resumed renders of one scene must agree on it (docs/production.md); a different material,
+// light, mesh, camera, seed, depth or sampler gives another. (The structs' padding is explicit
+// and zero-initialised, so equal scenes hash equally: tests/render/test_parts.cpp.)
+uint64_t scene_identity(const PackedScene& p);
+
 }  // namespace aw

@@ -23,6 +23,8 @@
 #include "host/render/features.h"
 #include "host/render/render.h"
 #include "host/render/scene_pack.h"
+#include "kernels/integrator/aov.h"
+#include "kernels/integrator/film.h"
 #include "kernels/integrator/path_state.h"
 #include "kernels/integrator/queues.h"
 #include "kernels/integrator/split.h"
@@ -109,19 +111,35 @@ class Wavefront {
       allocate();
       bind();
       warm_up();
-      ProgressLine progress("rendering", total_jobs_, opts_.progress);
+      ProgressLine progress(opts_.progress_label.empty() ? "rendering" : opts_.progress_label, total_jobs_, opts_.progress);
       uint64_t jobs_done = 0;
-      while (jobs_done < total_jobs_) {
+      // Jobs until which to render: all of them, or (time limit) the end of the sample pass
+      // under way when the limit passed, so every pixel has the same number of new samples.
+      uint64_t stop_at = total_jobs_;
+      auto last_checkpoint = Clock::now();
+      while (jobs_done < stop_at) {
         if (cancelled()) break;
-        uint32_t batch = uint32_t(std::min<uint64_t>(max_batch_, total_jobs_ - jobs_done));
+        uint32_t batch = uint32_t(std::min<uint64_t>(max_batch_, stop_at - jobs_done));
         uint32_t issued = run_batch(jobs_done, batch, progress);
         jobs_done += issued;
-        st_.samples += issued;
         progress.update(jobs_done);
         if (issued < batch) break;  // interrupted
+        if (opts_.time_limit > 0.0 && stop_at == total_jobs_ && since(t_start_) >= opts_.time_limit) {
+          stop_at = (jobs_done + npix_ - 1) / npix_ * npix_;
+          st_.time_limited = stop_at < total_jobs_;
+          if (st_.time_limited) progress.set_note("time limit: finishing this sample pass");
+        }
+        if (opts_.checkpoint && opts_.checkpoint_seconds > 0.0 && jobs_done < stop_at &&
+            since(last_checkpoint) >= opts_.checkpoint_seconds) {
+          read_film();
+          opts_.checkpoint(res_);
+          ++st_.checkpoints;
+          progress.set_note("checkpoint " + std::to_string(st_.checkpoints) + " written");
+          last_checkpoint = Clock::now();
+        }
       }
       progress.finish();
-      st_.interrupted = jobs_done < total_jobs_;
+      st_.interrupted = jobs_done < stop_at;
       read_back();
     } catch (const cl::Error& e) {
       throw ClError(std::string("OpenCL error while rendering on ") + rt_.info().name + ": " + e.what() + " (" +
@@ -171,8 +189,11 @@ class Wavefront {
 
   void allocate() {
     rp_ = packed_.params;
-    npix_ = rp_.width * rp_.height;
-    total_jobs_ = uint64_t(npix_) * uint64_t(scene_.render.spp);
+    first_sample_ = begin_film(scene_, opts_, packed_, rp_, res_);
+    npix_ = rp_.win_w * rp_.win_h;
+    // Jobs are (film pixel, sample) from the first sample some pixel lacks (0 unless resumed)
+    // to the range's end; film_accumulate skips the samples a resumed pixel holds already.
+    total_jobs_ = uint64_t(npix_) * uint64_t(res_.sample_end - first_sample_);
     uint32_t pool = opts_.pool_size ? opts_.pool_size : default_pool_size();
     pool = uint32_t(std::min<uint64_t>(pool, pad_to_group(total_jobs_)));
     pool_ = uint32_t(pad_to_group(pool));
@@ -201,10 +222,27 @@ class Wavefront {
     b.samples = rt_.buffer("batch samples", size_t(max_batch_) * 3 * 4);
     // Zeroed on the device: a host vector of zeros the film's size would be allocated (and
     // filled) before the device could refuse a film too large for it.
-    b.film = rt_.buffer("film", size_t(npix_) * 3 * 4, CL_MEM_READ_WRITE);
-    rt_.queue().enqueueFillBuffer(b.film, 0.0f, 0, size_t(npix_) * 3 * 4);
+    // (A resumed film is uploaded from the host; it exists there already.)
+    const size_t film_bytes = size_t(npix_) * AW_FILM_WORDS * 8;
+    b.film = rt_.buffer("film", film_bytes, CL_MEM_READ_WRITE);
     b.film_count = rt_.buffer("film sample counts", size_t(npix_) * 4, CL_MEM_READ_WRITE);
-    rt_.queue().enqueueFillBuffer(b.film_count, uint32_t(0), 0, size_t(npix_) * 4);
+    // AOVs (kernels/integrator/aov.h): the first hit's data per slot, the report per job and
+    // the exact sums per pixel; a float each without AOVs.
+    const bool aovs = rp_.aov_mask != 0u;
+    const size_t aov_film_bytes = size_t(npix_) * aov_film_channels(rp_.aov_mask) * 16;
+    b.aov_state = rt_.buffer("AOVs: first-hit data", aovs ? size_t(AW_AOV_STATE) * pool_ * 4 : 4);
+    b.aov_samples = rt_.buffer("AOVs: batch reports", aovs ? size_t(max_batch_) * AW_AOV_FLOATS * 4 : 4);
+    b.aov_film = rt_.buffer("AOVs: film", aovs ? aov_film_bytes : 16, CL_MEM_READ_WRITE);
+    if (aovs) st_.state_bytes += size_t(AW_AOV_STATE) * pool_ * 4;
+    if (opts_.resume) {
+      rt_.queue().enqueueWriteBuffer(b.film, CL_TRUE, 0, film_bytes, res_.acc.data());
+      rt_.queue().enqueueWriteBuffer(b.film_count, CL_TRUE, 0, size_t(npix_) * 4, res_.count.data());
+      if (aovs) rt_.queue().enqueueWriteBuffer(b.aov_film, CL_TRUE, 0, aov_film_bytes, res_.aov_acc.data());
+    } else {
+      rt_.queue().enqueueFillBuffer(b.film, cl_ulong(0), 0, film_bytes);
+      rt_.queue().enqueueFillBuffer(b.film_count, uint32_t(0), 0, size_t(npix_) * 4);
+      if (aovs) rt_.queue().enqueueFillBuffer(b.aov_film, cl_ulong(0), 0, aov_film_bytes);
+    }
     b.nodes = rt_.buffer("BVH nodes", bvh_.nodes.size() * sizeof(BvhNode), CL_MEM_READ_ONLY,
                          bvh_.nodes.empty() ? nullptr : bvh_.nodes.data());
     b.tris = rt_.buffer("BVH leaf triangles", bvh_.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,
@@ -236,7 +274,8 @@ class Wavefront {
     st_.instanced_triangles = scene_.rendered_triangle_count();
     st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
                       packed_arrays_bytes(packed_);
-    st_.film_bytes = size_t(npix_) * (3 + 1) * 4 + size_t(max_batch_) * 3 * 4;  // film, counts, batch samples
+    st_.film_bytes = film_bytes + size_t(npix_) * 4 + size_t(max_batch_) * 3 * 4;  // film, counts, batch samples
+    if (aovs) st_.film_bytes += aov_film_bytes + size_t(max_batch_) * AW_AOV_FLOATS * 4;
     st_.device_bytes = rt_.allocated_bytes();
     identity_.resize(pool_);
     std::iota(identity_.begin(), identity_.end(), 0u);
@@ -332,7 +371,7 @@ class Wavefront {
   uint32_t run_batch(uint64_t jobs_done, uint32_t batch, ProgressLine& progress) {
     auto& q = rt_.queue();
     rp_.batch_pixel = uint32_t(jobs_done % npix_);
-    rp_.batch_sample = uint32_t(jobs_done / npix_);
+    rp_.batch_sample = first_sample_ + uint32_t(jobs_done / npix_);
     rp_.job_count = batch;
     q.enqueueWriteBuffer(buf_.queues, CL_TRUE, size_t(AW_Q_FREE) * pool_ * 4, size_t(pool_) * 4, identity_.data());
     q.enqueueFillBuffer(buf_.tags, uint32_t(AW_Q_FREE), 0, size_t(pool_) * 4);
@@ -384,14 +423,21 @@ class Wavefront {
     cnt_[AW_Q_DONE] = 0;
   }
 
+  // The film so far into res_ (acc, count, sum, samples).
+  void read_film() {
+    auto& q = rt_.queue();
+    q.enqueueReadBuffer(buf_.film, CL_TRUE, 0, res_.acc.size() * 8, res_.acc.data());
+    q.enqueueReadBuffer(buf_.film_count, CL_TRUE, 0, res_.count.size() * 4, res_.count.data());
+    if (!res_.aov_acc.empty()) q.enqueueReadBuffer(buf_.aov_film, CL_TRUE, 0, res_.aov_acc.size() * 8, res_.aov_acc.data());
+    res_.update_sums();
+    uint64_t held = 0;
+    for (uint32_t c : res_.count) held += c;
+    st_.samples = held - st_.resumed_samples;
+  }
+
   void read_back() {
     auto& q = rt_.queue();
-    res_.width = int(rp_.width);
-    res_.height = int(rp_.height);
-    res_.sum.resize(size_t(npix_) * 3);
-    res_.count.resize(npix_);
-    q.enqueueReadBuffer(buf_.film, CL_TRUE, 0, res_.sum.size() * 4, res_.sum.data());
-    q.enqueueReadBuffer(buf_.film_count, CL_TRUE, 0, res_.count.size() * 4, res_.count.data());
+    read_film();
     std::vector<uint32_t> stat_vals(AW_STAT_COUNT);
     q.enqueueReadBuffer(buf_.stats, CL_TRUE, 0, stat_vals.size() * 4, stat_vals.data());
     st_.bad_samples = stat_vals[AW_STAT_BAD_SAMPLES];
@@ -418,6 +464,8 @@ class Wavefront {
   cl::Program program_;
   RenderParams rp_{};
   uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0;
+  uint32_t first_sample_ = 0;  // the sample of job 0 (begin_film)
+  Clock::time_point t_start_ = Clock::now();
   uint64_t total_jobs_ = 0;
   StageBuffers buf_;
   std::vector<uint32_t> identity_;

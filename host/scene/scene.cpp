@@ -19,6 +19,7 @@
 #include "host/scene/obj_materials.h"
 #include "host/scene/loader_parts.h"
 #include "kernels/common/compat.h"
+#include "kernels/integrator/aov.h"
 #include "kernels/types/material.h"
 
 namespace aw {
@@ -58,7 +59,7 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
   expect_object(ctx, n,
                 {"width", "height", "spp", "seed", "max_depth", "reflection_depth",
                  "refraction_depth", "gi", "cutoff", "lobe_splitting", "clamp", "rr_depth", "sampler",
-                 "light_selection", "instancing"});
+                 "light_selection", "instancing", "aovs"});
   // 65536 per side is far beyond any film we write and keeps width * height in range.
   if_present(n, "width", [&](const Node& c) { r->width = read_int_in(ctx, c, 1, 65536); });
   if_present(n, "height", [&](const Node& c) { r->height = read_int_in(ctx, c, 1, 65536); });
@@ -99,6 +100,26 @@ void parse_render(const LoadContext& ctx, const Node& n, RenderSettings* r) {
         ctx, c, {{"auto", RenderSettings::LightSelection::Auto},
                   {"power", RenderSettings::LightSelection::Power},
                   {"tree", RenderSettings::LightSelection::Tree}});
+  });
+  if_present(n, "aovs", [&](const Node& c) {
+    // A list of names, or one string of names separated by commas (as --aovs gives them).
+    std::vector<std::pair<std::string, std::string>> names;  // (name, its path)
+    if (c.j->is_array()) {
+      for (size_t i = 0; i < c.j->size(); ++i) {
+        const Node e = element(c, i);
+        names.emplace_back(read_string(ctx, e), e.path);
+      }
+    } else {
+      std::string all = read_string(ctx, c), item;
+      std::stringstream ss(all);
+      while (std::getline(ss, item, ',')) names.emplace_back(item, c.path);
+    }
+    r->aovs = 0;
+    for (const auto& [name, at] : names) {
+      const uint32_t bits = aov_bits_for_name(name);
+      if (!bits) ctx.fail(at, "\"" + name + "\" is not an AOV; known: " + aov_known_names());
+      r->aovs |= bits;
+    }
   });
   if_present(n, "sampler", [&](const Node& c) {
     r->sampler = read_enum<RenderSettings::Sampler>(
@@ -893,10 +914,11 @@ Scene load(const std::string& path, const std::vector<std::string>& overrides, c
     }
   });
 
-  // Film (per pixel: the device's sums and counts, the host's copy of both: 32 B) and the
-  // path pool (256 Ki states of about 230 B), before any geometry.
+  // Film (per pixel: the device's exact sums and count, 52 B, the host's copy of both with
+  // their float sums, 64 B, and the image written: 128 B in all; kernels/integrator/film.h) and
+  // the path pool (256 Ki states of about 230 B), before any geometry.
   uint64_t triangles = 0;
-  uint64_t fixed_bytes = uint64_t(scene.render.width) * uint64_t(scene.render.height) * 32u + (uint64_t(64) << 20);
+  uint64_t fixed_bytes = uint64_t(scene.render.width) * uint64_t(scene.render.height) * 128u + (uint64_t(64) << 20);
   // Textures: their decoded texels (and half again for the device's packed copy with its mip
   // levels), and with textured materials a material per path state (256 Ki states at most,
   // kernels/integrator/shading_material.h).
@@ -1122,36 +1144,64 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   }
 }
 
-void apply_exposure(const CameraDesc& cam, int width, int height, float* rgb) {
+ExposureMap exposure_map(const CameraDesc& cam) {
   const ExposureDesc& e = cam.exposure;
-  const double k = exposure_scale(e);
-  glm::dvec3 wb(1.0);
-  double vig = 0.0;
+  ExposureMap m;
+  m.k = exposure_scale(e);
   if (e.mode == ExposureDesc::Mode::Photographic) {
     // White balance: the white point's colour becomes grey of the same luminance (a von Kries
     // scaling in the Rec.709 primaries), so balancing does not change the exposure.
     const glm::dvec3 wp(e.whitepoint);
     const double lum = 0.2126 * wp.x + 0.7152 * wp.y + 0.0722 * wp.z;
-    wb = glm::dvec3(lum / wp.x, lum / wp.y, lum / wp.z);
-    vig = e.vignetting;
+    m.wb[0] = lum / wp.x;
+    m.wb[1] = lum / wp.y;
+    m.wb[2] = lum / wp.z;
+    m.vignetting = e.vignetting;
   }
-  const double t = std::tan(0.5 * double(cam.fov) * M_PI / 180.0);
-  const double aspect = double(width) / double(height);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
+  m.tan_half_fov = std::tan(0.5 * double(cam.fov) * M_PI / 180.0);
+  return m;
+}
+
+std::string ExposureMap::to_string() const {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g %.17g %.17g %.17g", k, wb[0], wb[1], wb[2], vignetting, tan_half_fov);
+  return buf;
+}
+
+bool ExposureMap::parse(const std::string& s, ExposureMap* out) {
+  ExposureMap m;
+  char tail = 0;
+  if (std::sscanf(s.c_str(), "%lf %lf %lf %lf %lf %lf %c", &m.k, &m.wb[0], &m.wb[1], &m.wb[2], &m.vignetting, &m.tan_half_fov,
+                  &tail) != 6)
+    return false;
+  for (double v : {m.k, m.wb[0], m.wb[1], m.wb[2], m.vignetting, m.tan_half_fov})
+    if (!std::isfinite(v) || v < 0.0) return false;
+  *out = m;
+  return true;
+}
+
+void ExposureMap::apply(int frame_w, int frame_h, int x0, int y0, int w, int h, float* rgb) const {
+  const double aspect = double(frame_w) / double(frame_h);
+  const double t = tan_half_fov;
+  for (int y = y0; y < y0 + h; ++y) {
+    for (int x = x0; x < x0 + w; ++x) {
       double f = k;
-      if (vig > 0.0) {
+      if (vignetting > 0.0) {
         // Natural vignetting: the cos^4 law of a lens's off-axis illuminance (Kerr, "Derivation
         // of the cosine fourth law for falloff of illuminance across a camera image", 2007),
         // raised to `vignetting` (0: none, 1: the law itself), at the pixel centre's ray.
-        const double u = (2.0 * (x + 0.5) / width - 1.0) * t * aspect, v = (1.0 - 2.0 * (y + 0.5) / height) * t;
+        const double u = (2.0 * (x + 0.5) / frame_w - 1.0) * t * aspect, v = (1.0 - 2.0 * (y + 0.5) / frame_h) * t;
         const double c2 = 1.0 / (1.0 + u * u + v * v);  // cos^2 of the angle to the axis
-        f *= std::pow(c2 * c2, vig);
+        f *= std::pow(c2 * c2, vignetting);
       }
-      float* p = rgb + 3 * (size_t(y) * size_t(width) + size_t(x));
+      float* p = rgb + 3 * (size_t(y - y0) * size_t(w) + size_t(x - x0));
       for (int c = 0; c < 3; ++c) p[c] = float(double(p[c]) * f * wb[c]);
     }
   }
+}
+
+void apply_exposure(const CameraDesc& cam, int width, int height, float* rgb) {
+  exposure_map(cam).apply(width, height, 0, 0, width, height, rgb);
 }
 
 float exposure_scale(const ExposureDesc& e) {

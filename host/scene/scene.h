@@ -48,6 +48,9 @@ struct RenderSettings {
   // Meshes placed several times are stored once (a two-level BVH); false stores every
   // placement as a mesh of its own (docs/scene-format.md#instancing).
   bool instancing = true;
+  // Arbitrary output variables written beside the beauty (docs/production.md#aovs): a bit per
+  // AW_AOV_* of kernels/integrator/aov.h, from the names in render.aovs / --aovs.
+  uint32_t aovs = 0;
 };
 
 struct ExposureDesc {
@@ -223,5 +226,22 @@ float exposure_scale(const ExposureDesc& e);
 // camera's render: k = exposure_scale, and in photographic mode the white balance (whitepoint)
 // and the vignetting (docs/scene-format.md, camera.exposure).
 void apply_exposure(const CameraDesc& cam, int width, int height, float* rgb);
+
+// The exposure as numbers, so that an image can be exposed without its scene (archwave
+// merge): factor(x, y) multiplies frame pixel (x, y)'s channel c by k * wb[c] * vignetting.
+struct ExposureMap {
+  double k = 1.0;
+  double wb[3] = {1.0, 1.0, 1.0};
+  double vignetting = 0.0;    // the cos^4 law's exponent; 0 = none
+  double tan_half_fov = 1.0;  // the camera's, for the vignetting's angle
+  // "k wb0 wb1 wb2 vignetting tan_half_fov", each with 17 significant digits (exact).
+  std::string to_string() const;
+  // The inverse of to_string; false for anything else.
+  static bool parse(const std::string& s, ExposureMap* out);
+  // Exposes an RGB window (3 floats per pixel) at (x0, y0) of size w x h of a frame_w x
+  // frame_h frame, in place.
+  void apply(int frame_w, int frame_h, int x0, int y0, int w, int h, float* rgb) const;
+};
+ExposureMap exposure_map(const CameraDesc& cam);
 
 }  // namespace aw

@@ -51,7 +51,8 @@
   X(SPHERE) /* analytic spheres in the BVH (bvh/intersect_sphere.h) */ \
   X(INSTANCE) /* instances of shared meshes: a two-level BVH (bvh/traverse.h) */ \
   X(SPLIT) /* per-lobe samples split rays at the first hit (integrator/split.h) */ \
-  X(SAMPLER_INDEPENDENT) X(SAMPLER_ZSOBOL) /* render.sampler (common/rng.h) */
+  X(SAMPLER_INDEPENDENT) X(SAMPLER_ZSOBOL) /* render.sampler (common/rng.h) */ \
+  X(AOV) /* arbitrary output variables, render.aovs (integrator/aov.h) */
 
 #define AW_FEATURE_LIST(X) AW_MATERIAL_FEATURE_LIST(X) AW_SCENE_FEATURE_LIST(X)
 

@@ -27,6 +27,7 @@
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/sampling.h"
+#include "integrator/aov.h"
 #include "integrator/intersect_shadow.h"
 #include "integrator/light_select.h"
 #include "integrator/path_state.h"
@@ -83,6 +84,7 @@ AW_FN int ambient_occlusion(PathRef ps, SceneRef sc, const RenderParams* rp) {
   } else if (!(m->flags & AW_MAT_METAL)) {  // metal has no diffuse (docs/material.md §1)
     ps_add_radiance(ps, thr * load_f3(m->diffuse_color) * ao * (m->diffuse_weight * m->ao_add_scale));
   }
+  aov_first_scatter(ps, rp, AW_NONE);  // the ao light group: what this stage added at the first hit
   return next;
 }
 

@@ -8,6 +8,7 @@
 
 #include "common/rng.h"
 #include "common/sampling.h"
+#include "integrator/aov.h"
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
 #include "integrator/scene_ref.h"
@@ -384,7 +385,7 @@ AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const
   return AW_Q_LOBE + (int)lid;
 }
 
-AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
+AW_FN int classify_hit_body(PathRef ps, SceneRef sc, const RenderParams* rp) {
   float3 dir = ps_ray_dir(ps);
   classify_fog(ps, sc);
   float3 thr = ps_throughput(ps);
@@ -432,6 +433,10 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
     m = shading_material(ps, sc);
     if (AW_FEAT_BUMP && m->bump_binding != AW_NONE) h.n = classify_bump(ps, sc, m, h, v0, v1, v2, dir);
   }
+  // The AOVs of the first hit (integrator/aov.h): the ray's direction is a unit vector, so
+  // hit_t is the distance from the camera.
+  if (aov_on(rp) && PS_U(ps, bounce) == 0u)
+    aov_surface(ps, rp, material_albedo(m, fabs(dot(dir, h.n)), h.front), h.n, h.p, PS_F(ps, hit_t), tri->material);
 
   // 5. A path that has used up its scattering events ends here. (Its last ray was still
   // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
@@ -460,6 +465,14 @@ AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
   if (!ao) return q;
   if (q == AW_Q_DONE) PS_U(ps, lobe) = AW_NONE;
   return (PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) ? q : AW_Q_AO;
+}
+
+// classify_hit_body, and the AOVs' record of what the first hit gathered (integrator/aov.h).
+AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
+  uint bounce = PS_U(ps, bounce);
+  int q = classify_hit_body(ps, sc, rp);
+  aov_first_classified(ps, rp, bounce);
+  return q;
 }
 
 #endif

@@ -4,17 +4,21 @@
 #define AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
 
 #include "common/rng.h"
+#include "integrator/aov.h"
 #include "integrator/path_state.h"
 #include "types/scene.h"
 
 AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
-  uint npix = rp->width * rp->height;
-  // Batch-local job -> (pixel, sample), see RenderParams. (batch_pixel < npix, so the sum
-  // cannot overflow for any batch that fits in memory.)
+  uint npix = rp->win_w * rp->win_h;
+  // Batch-local job -> (film pixel, sample), see RenderParams. (batch_pixel < npix, so the sum
+  // cannot overflow for any batch that fits in memory.) The film pixel is one of the window's;
+  // the path carries the frame's pixel index, which the sampler sees, so a window's pixels
+  // get exactly the random numbers they get in the whole frame.
   uint k = rp->batch_pixel + job;
-  uint pixel = k % npix;
+  uint film_px = k % npix;
   uint sample = rp->batch_sample + k / npix;
-  uint px = pixel % rp->width, py = pixel / rp->width;
+  uint px = rp->win_x0 + film_px % rp->win_w, py = rp->win_y0 + film_px / rp->win_w;
+  uint pixel = py * rp->width + px;
 
   float2 j = rng_2d(rp_sampler(rp), pixel, sample, 0u, AW_DIM_CAMERA);
   float sx = (2.0f * ((float)px + j.x) / (float)rp->width - 1.0f) * rp->tan_half_fov * rp->aspect;
@@ -41,6 +45,7 @@ AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
   // vertical field of view and the image height).
   PS_F(ps, cone_w) = 0.0f;
   PS_F(ps, cone_s) = 2.0f * rp->tan_half_fov / (float)rp->height;
+  aov_begin(ps, rp);
 }
 
 #endif

@@ -13,8 +13,10 @@
 #endif
 
 #include "integrator/accumulate.h"
+#include "integrator/aov.h"
 #include "integrator/ambient_occlusion.h"
 #include "integrator/classify_hit.h"
+#include "integrator/film.h"
 #include "integrator/generate_camera_ray.h"
 #include "integrator/intersect_closest.h"
 #include "integrator/intersect_shadow.h"
@@ -50,19 +52,20 @@
 
 
 // The path in slot `slot` and the scene, from the stage arguments.
-#define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, rp.pool_size, (slot))
+#define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, aov_state, rp.pool_size, (slot))
 #define AW_STAGE_SCENE                                                                                          \
   scene_ref_make(tri_info, verts, materials, lights, env, light_tree, tri_light, textures, tex_bindings, texels, \
                  mat_resolved, nodes, tris, insts, rp.num_nodes)
 #define AW_QUEUE(q) (queues + (uint)(q) * rp.pool_size)
 
 static inline PathRef path_ref_make(__global float* sf, __global uint* su, __global float* snap_f,
-                                    __global uint* snap_u, uint pool, uint slot) {
+                                    __global uint* snap_u, __global float* aov, uint pool, uint slot) {
   PathRef ps;
   ps.sf = sf;
   ps.su = su;
   ps.snap_f = snap_f;
   ps.snap_u = snap_u;
+  ps.aov = aov;
   ps.pool = pool;
   ps.slot = slot;
   return ps;
@@ -212,7 +215,7 @@ AW_STAGE_KERNEL_SCALAR(kernel_accumulate) {
     PathRef ps = AW_STAGE_PATH(slot);
     float3 l;
     uint events;
-    q = (uint)accumulate_path(ps, &rp, &l, &events);
+    q = (uint)accumulate_path(ps, &rp, &l, &events, aov_samples + (size_t)PS_U(ps, job) * AW_AOV_FLOATS);
     if (events & AW_ACC_BAD) atomic_inc(&stats[AW_STAT_BAD_SAMPLES]);
     if (events & AW_ACC_MISSING) atomic_inc(&stats[AW_STAT_MISSING_FEATURE]);
     if (q == AW_Q_FREE) {
@@ -225,24 +228,24 @@ AW_STAGE_KERNEL_SCALAR(kernel_accumulate) {
   AW_APPEND(q, slot);
 }
 
-// Adds a finished batch to the film, one work-item per pixel, samples in increasing sample
-// order: the same summation order as the scalar path, so the two films match bit for bit
-// when the sample values do, whatever the pool size or batch split.
+// Adds a finished batch to the film, one work-item per pixel (integrator/film.h: exact sums,
+// so neither the order nor the batch split matters). A pixel takes a sample only when it is the
+// next one it lacks: sample_start + film_count[p]. A fresh render always meets that; a resumed
+// one (--resume) starts its jobs at the first sample some pixel lacks, and pixels that already
+// hold a sample of that pass skip it, so no sample is counted twice.
 AW_STAGE_KERNEL_SCALAR(kernel_film_accumulate) {
   uint p = get_global_id(0);
-  uint npix = rp.width * rp.height;
+  uint npix = rp.win_w * rp.win_h;
   if (p >= npix) return;
   uint i = (p + npix - rp.batch_pixel) % npix;  // first batch-local job of pixel p
-  float3 sum = make_float3(film[p * 3u + 0u], film[p * 3u + 1u], film[p * 3u + 2u]);
-  uint n = 0u;
-  for (; i < rp.job_count; i += npix) {
-    sum.x += samples[i * 3u + 0u];
-    sum.y += samples[i * 3u + 1u];
-    sum.z += samples[i * 3u + 2u];
+  uint s = rp.batch_sample + (rp.batch_pixel + i) / npix;  // its sample index
+  uint n = film_count[p];
+  uint aov_ch = aov_on(&rp) ? aov_film_channels(rp.aov_mask) : 0u;
+  for (; i < rp.job_count; i += npix, ++s) {
+    if (s != rp.sample_start + n) continue;  // held already (a resumed film)
+    film_add(film + (size_t)p * AW_FILM_WORDS, make_float3(samples[i * 3u + 0u], samples[i * 3u + 1u], samples[i * 3u + 2u]));
+    if (aov_ch) film_add_aovs(aov_film + (size_t)p * aov_ch * 2u, aov_samples + (size_t)i * AW_AOV_FLOATS, rp.aov_mask);
     ++n;
   }
-  film[p * 3u + 0u] = sum.x;
-  film[p * 3u + 1u] = sum.y;
-  film[p * 3u + 2u] = sum.z;
-  film_count[p] += n;
+  film_count[p] = n;
 }

@@ -25,8 +25,9 @@ typedef struct {
 } MegakernelCounts;
 
 // Runs batch-local job `job` (RenderParams: pixel and sample) to its end and returns its
-// sample value, which is what the wavefront's accumulate stage writes to samples[job].
-AW_FN float3 megakernel_path(PathRef ps, SceneRef sc, const RenderParams* rp, uint job, MegakernelCounts* c) {
+// sample value, which is what the wavefront's accumulate stage writes to samples[job], and
+// with AOVs its report in aov[0, AW_AOV_FLOATS) (aov_samples[job] there).
+AW_FN float3 megakernel_path(PathRef ps, SceneRef sc, const RenderParams* rp, uint job, MegakernelCounts* c, AW_GLOBAL float* aov) {
   generate_camera_ray(ps, rp, job);
   float3 value = make_float3(0.0f, 0.0f, 0.0f);
   int q = AW_Q_RAY;
@@ -46,7 +47,7 @@ AW_FN float3 megakernel_path(PathRef ps, SceneRef sc, const RenderParams* rp, ui
       }
     } else if (q == AW_Q_DONE) {
       uint events;
-      q = accumulate_path(ps, rp, &value, &events);
+      q = accumulate_path(ps, rp, &value, &events, aov);
       if (events & AW_ACC_BAD) ++c->bad;
       if (events & AW_ACC_MISSING) ++c->missing;
     } else {

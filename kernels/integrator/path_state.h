@@ -40,15 +40,18 @@ AW_FN Sampler rp_sampler(const RenderParams* rp) {
 
 // A handle on one path: the buffers, the pool size (the stride between fields) and the slot.
 // snap_f / snap_u: the first-hit snapshot of lobe splitting (integrator/split.h); only the
-// stages that split or end paths get them, the others leave them null.
+// stages that split or end paths get them, the others leave them null. aov: the first hit's
+// AOV data (integrator/aov.h, AW_AOVS_*), only when the render asks for AOVs (rp->aov_mask).
 typedef struct {
   AW_GLOBAL float* sf;
   AW_GLOBAL uint* su;
   AW_GLOBAL float* snap_f;
   AW_GLOBAL uint* snap_u;
+  AW_GLOBAL float* aov;
   uint pool;
   uint slot;
 } PathRef;
+#define PS_AOV(ps, i) ((ps).aov[(uint)(i) * (ps).pool + (ps).slot])
 
 #define PS_F(ps, name) ((ps).sf[(uint)AW_SF_##name * (ps).pool + (ps).slot])
 #define PS_U(ps, name) ((ps).su[(uint)AW_SU_##name * (ps).pool + (ps).slot])

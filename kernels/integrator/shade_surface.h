@@ -7,6 +7,7 @@
 #define AW_INTEGRATOR_SHADE_SURFACE_H
 
 #include "common/features.h"
+#include "integrator/aov.h"
 #include "integrator/shade_common.h"
 #include "integrator/shading_material.h"
 #include "integrator/split.h"
@@ -17,6 +18,7 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
   float3 ng = ps_sp_geo_normal(ps);
   const AW_GLOBAL MaterialGpu* m = shading_material(ps, sc);
   float3 n = shading_normal_for_lobe(ps, m, lid);
+  aov_first_scatter(ps, rp, lid);  // the light groups: everything from here on is this lobe's
   // Per-lobe samples: split this lobe at the first scattering vertex (docs/material.md §6). The
   // snapshot is taken before this stage changes anything, so every split starts here.
   if (rp->split_spp != 0u && PS_U(ps, bounce) == 0u && !(PS_U(ps, flags) & AW_PATH_SPLIT)) {

@@ -15,7 +15,8 @@
 // is the unsplit path exactly.
 //
 // The snapshot lives in separate buffers (PathRef.snap_f / snap_u, allocated only when a
-// scene splits): a copy of every state field, then the running sum (3 floats) and
+// scene splits): a copy of every state field, then the running sum (3 floats), the sum of the
+// splits' clamp factors (1 float) and
 // (n << 16 | s) (1 uint).
 #ifndef AW_INTEGRATOR_SPLIT_H
 #define AW_INTEGRATOR_SPLIT_H
@@ -27,7 +28,7 @@
 #include "types/scene.h"
 
 #define AW_SPLIT_MAX 1024u  // bound on n (docs/material.md §6 sets none; a pixel's splits stay < 2^16)
-#define AW_SNAP_F_COUNT (AW_SF_COUNT + 3)
+#define AW_SNAP_F_COUNT (AW_SF_COUNT + 4)
 #define AW_SNAP_U_COUNT (AW_SU_COUNT + 1)
 #define AW_SNAP_F(ps, i) ((ps).snap_f[(uint)(i) * (ps).pool + (ps).slot])
 #define AW_SNAP_U(ps, i) ((ps).snap_u[(uint)(i) * (ps).pool + (ps).slot])
@@ -53,19 +54,23 @@ AW_FN void split_begin(PathRef ps, uint n) {
   AW_SNAP_F(ps, AW_SF_COUNT + 0) = 0.0f;
   AW_SNAP_F(ps, AW_SF_COUNT + 1) = 0.0f;
   AW_SNAP_F(ps, AW_SF_COUNT + 2) = 0.0f;
+  AW_SNAP_F(ps, AW_SF_COUNT + 3) = 0.0f;
   AW_SNAP_U(ps, AW_SU_COUNT) = n << 16;
 }
 
-// A split path has ended with sample value `l` (already checked and clamped by path_result).
-// Returns 1 when another split follows: the state is back at the first hit, ready for the
-// lobe queue PS_U(ps, lobe). Returns 0 when this was the last: *out = the mean of the splits.
-AW_FN int split_next(PathRef ps, const RenderParams* rp, float3 l, float3* out) {
+// A split path has ended with sample value `l` (already checked and clamped by path_result,
+// by the factor k). Returns 1 when another split follows: the state is back at the first hit,
+// ready for the lobe queue PS_U(ps, lobe). Returns 0 when this was the last: *out = the mean
+// of the splits, *k_out the mean of their factors (the AOVs' light groups: integrator/aov.h).
+AW_FN int split_next(PathRef ps, const RenderParams* rp, float3 l, float k, float3* out, float* k_out) {
   float3 sum = make_float3(AW_SNAP_F(ps, AW_SF_COUNT + 0), AW_SNAP_F(ps, AW_SF_COUNT + 1),
                            AW_SNAP_F(ps, AW_SF_COUNT + 2)) + l;
+  float k_sum = AW_SNAP_F(ps, AW_SF_COUNT + 3) + k;
   uint ns = AW_SNAP_U(ps, AW_SU_COUNT);
   uint n = ns >> 16, s = (ns & 0xffffu) + 1u;
   if (s >= n) {
     *out = sum / (float)n;
+    *k_out = k_sum / (float)n;
     return 0;
   }
   for (uint f = 0u; f < (uint)AW_SF_COUNT; ++f) ps.sf[f * ps.pool + ps.slot] = AW_SNAP_F(ps, f);
@@ -73,6 +78,7 @@ AW_FN int split_next(PathRef ps, const RenderParams* rp, float3 l, float3* out) 
   AW_SNAP_F(ps, AW_SF_COUNT + 0) = sum.x;
   AW_SNAP_F(ps, AW_SF_COUNT + 1) = sum.y;
   AW_SNAP_F(ps, AW_SF_COUNT + 2) = sum.z;
+  AW_SNAP_F(ps, AW_SF_COUNT + 3) = k_sum;
   AW_SNAP_U(ps, AW_SU_COUNT) = (n << 16) | s;
   PS_U(ps, sample) = PS_U(ps, sample) + s * rp->split_spp;
   return 1;

@@ -22,8 +22,11 @@
   BUFFER(uint, snap_u)                                                                      \
   BUFFER(float, samples)  /* the batch's sample values, 3 floats per job */                 \
   BUFFER(uint, stats)     /* AW_STAT_* counters (integrator/queues.h) */                    \
-  BUFFER(float, film)     /* per-pixel sums, 3 floats */                                    \
+  BUFFER(ulong, film)     /* per-pixel exact sums, AW_FILM_WORDS (integrator/film.h) */   \
   BUFFER(uint, film_count)                                                                  \
+  BUFFER(float, aov_state)   /* AOVs (integrator/aov.h): per slot, the first hit's data */  \
+  BUFFER(float, aov_samples) /* per job, AW_AOV_FLOATS */                                   \
+  BUFFER(ulong, aov_film)    /* per pixel, the chosen AOVs' exact sums, 2 words a channel */ \
   BUFFER(float4, nodes)   /* the flattened BVH (kernels/types/bvh.h) */                     \
   BUFFER(float4, tris)                                                                      \
   BUFFER(InstanceGpu, insts) /* instances of shared meshes (types/bvh.h) */                \

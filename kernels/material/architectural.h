@@ -178,6 +178,26 @@ AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float co
   return material_lobe_weights_f(m, f1, f2, entering);
 }
 
+// The material's reflectance at view cosine cos_o, for the albedo AOV (integrator/aov.h):
+// each lobe's weight times its colour, reflection with Fresnel at the view angle. The
+// reflection lobes' colours are their tints scaled to the luminance their weights carry
+// (rho = weight * F * tint, so tint * lum(rho) / lum(tint) is rho itself).
+AW_FN float3 material_albedo(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
+  LobeWeights lw = material_lobe_weights(m, cos_o, entering);
+  float3 a = lw.scale[AW_LID_DIFFUSE] * material_diffuse_color(m) +
+             lw.scale[AW_LID_TRANSLUCENCY] * load_f3(m->transl_color) + lw.scale[AW_LID_REFRACTION];
+  if (AW_FEAT_REFLECTION) {
+    float3 t1 = load_f3(m->refl[0].color);
+    if (m->flags & AW_MAT_METAL) t1 = t1 * material_diffuse_color(m);
+    float3 t2 = load_f3(m->refl[1].color);
+    float l1 = luminance(t1), l2 = luminance(t2);
+    if (l1 > 0.0f) a = a + t1 * (lw.albedo[AW_LID_REFLECTION] / l1);
+    if (l2 > 0.0f) a = a + t2 * (lw.albedo[AW_LID_REFLECTION2] / l2);
+  }
+  return a;
+}
+
+
 // The split the renderer uses: each reflection lobe's reflectance is its Fresnel at the
 // microfacet normal that the lobe's own sample will draw from the same random numbers u
 // (wo in the reflection frame, material_reflection_frame). Why: the lobe carries Fresnel at

@@ -56,4 +56,6 @@ AW_LAYOUT_ENTRY(52, InstanceGpu, root)
 AW_LAYOUT_ENTRY(53, InstanceGpu, pad)
 AW_LAYOUT_ENTRY(54, VertexData, uv2)
 AW_LAYOUT_ENTRY(55, TexBindingGpu, uv_set)
-#define AW_LAYOUT_COUNT 56
+AW_LAYOUT_ENTRY(56, RenderParams, win_x0)
+AW_LAYOUT_ENTRY(57, RenderParams, sample_start)
+#define AW_LAYOUT_COUNT 58

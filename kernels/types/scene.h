@@ -86,8 +86,9 @@ typedef struct {
   uint pool_size;
   uint rr_depth;      // first bounce at which Russian roulette may end a path
   // Jobs are (pixel, sample) pairs in sample-major order. A batch is a contiguous run of
-  // jobs starting at (batch_pixel, batch_sample); local job i of the batch is
-  // pixel (batch_pixel + i) % pixels of sample batch_sample + (batch_pixel + i) / pixels.
+  // jobs starting at (batch_pixel, batch_sample); local job i of the batch is film pixel
+  // (batch_pixel + i) % pixels of sample batch_sample + (batch_pixel + i) / pixels, where
+  // pixels = win_w * win_h (the film's window, below).
   // Kept as two 32-bit numbers so a 4K render at thousands of spp does not overflow.
   uint batch_pixel;
   uint batch_sample;
@@ -105,6 +106,18 @@ typedef struct {
   uint num_tree_nodes;    // the light tree's nodes; 0: lights are chosen by the alias table alone
   float tree_prob;        // with a tree: the probability of choosing among its lights (their power share)
   uint has_mesh_lights;   // sc.tri_light holds each triangle's light (AW_LIGHT_TRIANGLE) or AW_NONE
+  // The film's window in the frame (--pixel-bounds / --crop-window, docs/production.md): jobs
+  // cover its win_w x win_h pixels, film pixel i being frame pixel (win_x0 + i % win_w,
+  // win_y0 + i / win_w). width and height above stay the frame's: the camera and the sampler
+  // see frame pixels, so a window renders exactly the frame's pixels.
+  uint win_x0;
+  uint win_y0;
+  uint win_w;
+  uint win_h;
+  // The film's first sample index (--sample-range START): film pixel p holds the samples
+  // [sample_start, sample_start + film_count[p]) (integrator/film.h).
+  uint sample_start;
+  uint aov_mask;  // the AOVs the film keeps: a bit per AW_AOV_* (integrator/aov.h); 0: none
 } RenderParams;
 
 #endif

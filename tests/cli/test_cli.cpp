@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include <thread>
 
 #include "host/film/image_io.h"
+#include "host/render/film_state.h"
 
 namespace fs = std::filesystem;
 
@@ -337,13 +339,157 @@ TEST(Cli, MaxMemoryRefusesAScenePastTheLimitBeforeGeneratingIt) {
   EXPECT_NE(r.err.find("--max-memory 200M"), std::string::npos) << r.err;
   EXPECT_LT(secs, 20.0) << "the refusal must come before the geometry is generated";
   EXPECT_FALSE(fs::exists(scratch() + "/never.exr"));
-  // The film (640 x 480 x 32 B) and the path pool (64 MiB) take 76.9 MB of the 209.7 MB; 16
-  // spheres of 16,128 triangles x 500 B fit in the rest, the 17th is refused.
-  EXPECT_NE(r.err.find("objects[16]"), std::string::npos) << r.err;
+  // The film (640 x 480 x 128 B) and the path pool (64 MiB) take 106.4 MB of the 209.7 MB; 12
+  // spheres of 16,128 triangles x 500 B fit in the rest, the 13th is refused.
+  EXPECT_NE(r.err.find("objects[12]"), std::string::npos) << r.err;
   // A limit that is not a size.
   EXPECT_EQ(run(write_scene("m.json", kMinimal) + " --max-memory lots").code, 2);
   // 0 = no limit: the minimal scene renders.
   EXPECT_EQ(run(write_scene("m2.json", kMinimal) + " -o " + scratch() + "/m2.exr -q --max-memory 0").code, 0);
+}
+
+}  // namespace
+
+namespace {
+
+// Production renders through the command line (docs/production.md): parts made by separate
+// processes merge into the single render bit for bit; an interrupted (SIGTERM) or time-limited
+// render resumes to it bit for bit; checkpoints are never broken files; bad parts are refused.
+const std::string kProdArgs = " --width 48 --height 32 --device pocl -q --no-progress";
+
+bool same_pixels(const std::string& a, const std::string& b) {
+  const aw::Image ia = aw::read_exr(a), ib = aw::read_exr(b);
+  return ia.width == ib.width && ia.height == ib.height && ia.rgb.size() == ib.rgb.size() &&
+         std::memcmp(ia.rgb.data(), ib.rgb.data(), ia.rgb.size() * sizeof(float)) == 0;
+}
+
+TEST(CliParts, SampleRangesAndCropsMergeIntoTheSingleRenderBitForBit) {
+  const std::string scene = src("scenes/cornell.json"), d = scratch() + "/";
+  ASSERT_EQ(run(scene + kProdArgs + " --spp 6 -o " + d + "whole.exr").code, 0);
+  for (const char* r : {"0:1", "1:4", "4:6"}) {
+    CliRun p = run(scene + kProdArgs + " --spp 6 --sample-range " + r + " -o " + d + "range_" + std::string(r).replace(1, 1, "_") + ".exr");
+    ASSERT_EQ(p.code, 0) << p.err;
+  }
+  CliRun m = run("merge " + d + "range_4_6.exr " + d + "range_0_1.exr " + d + "range_1_4.exr -o " + d + "merged_ranges.exr");
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_NE(m.err.find("merged 3 parts"), std::string::npos) << m.err;
+  EXPECT_TRUE(same_pixels(d + "merged_ranges.exr", d + "whole.exr"));
+  // Crop windows of uneven size (pbrt's rounding: 48 * 0.3 -> 15, 32 * 0.55 -> 18).
+  ASSERT_EQ(run(scene + kProdArgs + " --spp 6 --crop-window 0,0.3,0,1 -o " + d + "c1.exr").code, 0);
+  ASSERT_EQ(run(scene + kProdArgs + " --spp 6 --crop-window 0.3,1,0,0.55 -o " + d + "c2.exr").code, 0);
+  ASSERT_EQ(run(scene + kProdArgs + " --spp 6 --pixel-bounds 15,48,18,32 -o " + d + "c3.exr").code, 0);
+  const aw::Image c1 = aw::read_exr(d + "c1.exr");
+  EXPECT_EQ(c1.width, 15);
+  EXPECT_EQ(c1.frame_width, 48);
+  ASSERT_EQ(run("merge " + d + "c1.exr " + d + "c2.exr " + d + "c3.exr -o " + d + "merged_crops.exr").code, 0);
+  EXPECT_TRUE(same_pixels(d + "merged_crops.exr", d + "whole.exr"));
+  // Refusals name the files: overlapping samples, another seed, not an archwave film.
+  CliRun o = run("merge " + d + "range_0_1.exr " + d + "merged_ranges.exr -o " + d + "bad.exr");
+  EXPECT_EQ(o.code, 3) << o.err;
+  EXPECT_NE(o.err.find("overlap"), std::string::npos) << o.err;
+  ASSERT_EQ(run(scene + kProdArgs + " --spp 6 --seed 9 --sample-range 1:6 -o " + d + "seed9.exr").code, 0);
+  CliRun sd = run("merge " + d + "range_0_1.exr " + d + "seed9.exr -o " + d + "bad.exr");
+  EXPECT_EQ(sd.code, 3) << sd.err;
+  EXPECT_NE(sd.err.find("seeds differ"), std::string::npos) << sd.err;
+  EXPECT_NE(sd.err.find("seed9.exr"), std::string::npos) << sd.err;
+  CliRun nf = run("merge " + d + "whole.exr " + d + "range_0_1.exr -o " + d + "bad.exr");
+  EXPECT_EQ(nf.code, 5) << nf.err;
+  EXPECT_NE(nf.err.find("no archwave film state"), std::string::npos) << nf.err;
+  EXPECT_FALSE(fs::exists(d + "bad.exr"));
+  EXPECT_EQ(run("merge -o " + d + "bad.exr").code, 2);
+  // Bad parts of the command line.
+  for (const char* bad : {"--sample-range 4:2", "--sample-range 0:7", "--sample-range x", "--crop-window 0,2,0,1",
+                          "--pixel-bounds 0,49,0,32", "--pixel-bounds 1.5,4,0,2"}) {
+    CliRun b = run(scene + kProdArgs + " --spp 6 " + bad + " -o " + d + "bad.exr");
+    EXPECT_EQ(b.code, 3) << bad << ": " << b.err;
+    EXPECT_NE(b.err.find(std::string(bad).substr(0, std::string(bad).find(' '))), std::string::npos) << b.err;
+  }
+}
+
+TEST(CliParts, TimeLimitedThenResumedIsTheSingleRenderBitForBit) {
+  const std::string scene = src("scenes/cornell.json"), d = scratch() + "/";
+  // 3 M samples: three batches of the default size, so the limit (checked at batch ends)
+  // passes after the first.
+  const std::string args = kProdArgs + " --spp 2000";
+  ASSERT_EQ(run(scene + args + " -o " + d + "tl_whole.exr").code, 0);
+  CliRun t = run(scene + args + " --time-limit 0.3 -o " + d + "tl_part.exr");
+  ASSERT_EQ(t.code, 0) << t.err;
+  const aw::Image part = aw::read_exr(d + "tl_part.exr");
+  EXPECT_EQ(part.string_attrs.at("archwave:time_limited"), "yes");
+  EXPECT_LT(part.int_attrs.at("spp"), 2000);
+  EXPECT_NE(t.err.find("--resume"), std::string::npos) << t.err;
+  CliRun r = run(scene + args + " --resume " + d + "tl_part.exr -o " + d + "tl_resumed.exr");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(same_pixels(d + "tl_resumed.exr", d + "tl_whole.exr"));
+  // A resume that does not fit: another seed, the scalar path, a file that is not one.
+  CliRun s = run(scene + args + " --seed 3 --resume " + d + "tl_part.exr -o " + d + "x.exr");
+  EXPECT_EQ(s.code, 3) << s.err;
+  EXPECT_NE(s.err.find("seed"), std::string::npos) << s.err;
+  CliRun sc = run(scene + args + " --scalar --resume " + d + "tl_part.exr -o " + d + "x.exr");
+  EXPECT_EQ(sc.code, 3) << sc.err;
+  EXPECT_NE(sc.err.find("wavefront"), std::string::npos) << sc.err;
+  CliRun nf = run(scene + args + " --resume " + d + "tl_whole.exr -o " + d + "x.exr");
+  EXPECT_EQ(nf.code, 3) << nf.err;
+  EXPECT_NE(nf.err.find("no archwave film state"), std::string::npos) << nf.err;
+}
+
+// SIGTERM (what Slurm sends at a job's time limit) mid-render, then --resume: bit for bit the
+// uninterrupted render. The signal goes once the first checkpoint exists, so it lands while
+// rendering whatever the machine's load.
+TEST(CliParts, TerminatedThenResumedIsTheSingleRenderBitForBit) {
+  const std::string scene = src("scenes/cornell.json"), d = scratch() + "/";
+  ASSERT_EQ(run(scene + kProdArgs + " --spp 1500 -o " + d + "sig_whole.exr").code, 0);
+  const std::string out = d + "sig_part.exr";
+  fs::remove(out);
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    freopen((d + "sig_stderr.txt").c_str(), "w", stderr);
+    execl(ARCHWAVE_BINARY, ARCHWAVE_BINARY, scene.c_str(), "--width", "48", "--height", "32", "--device", "pocl", "--spp",
+          "1500", "--checkpoint", "0.1", "-o", out.c_str(), (char*)nullptr);
+    _exit(127);
+  }
+  for (int i = 0; i < 600 && !fs::exists(out); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(fs::exists(out)) << "no checkpoint within 30 s";
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 130) << "the render ended before the signal; make it longer";
+  const aw::Image part = aw::read_exr(out);
+  EXPECT_EQ(part.string_attrs.at("archwave:interrupted"), "yes");
+  EXPECT_LT(part.int_attrs.at("spp"), 1500);
+  CliRun r = run(scene + kProdArgs + " --spp 1500 --resume " + out + " -o " + d + "sig_resumed.exr");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(same_pixels(d + "sig_resumed.exr", d + "sig_whole.exr"));
+}
+
+// Killed (SIGKILL: no handler runs) while checkpointing again and again: the file at the output
+// path is always a complete film that resumes, never a torn write.
+TEST(CliParts, AKilledCheckpointLeavesThePreviousOneIntact) {
+  const std::string scene = src("scenes/cornell.json"), d = scratch() + "/";
+  const std::string out = d + "ck.exr";
+  for (int round = 0; round < 3; ++round) {
+    fs::remove(out);
+    pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      freopen((d + "ck_stderr.txt").c_str(), "w", stderr);
+      execl(ARCHWAVE_BINARY, ARCHWAVE_BINARY, scene.c_str(), "--width", "400", "--height", "300", "--device", "pocl", "--spp",
+            "100000", "--checkpoint", "0.01", "-o", out.c_str(), (char*)nullptr);
+      _exit(127);
+    }
+    for (int i = 0; i < 600 && !fs::exists(out); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_TRUE(fs::exists(out));
+    // Kill at a different moment of the write cycle each round.
+    std::this_thread::sleep_for(std::chrono::milliseconds(150 + 97 * round));
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    EXPECT_NO_THROW({
+      const aw::FilmState f = aw::read_film_state(out);
+      EXPECT_EQ(f.width, 400);
+    });
+  }
 }
 
 }  // namespace
