@@ -194,13 +194,15 @@ class Wavefront {
     // Jobs are (film pixel, sample) from the first sample some pixel lacks (0 unless resumed)
     // to the range's end; film_accumulate skips the samples a resumed pixel holds already.
     total_jobs_ = uint64_t(npix_) * uint64_t(res_.sample_end - first_sample_);
+    // (A resumed film that is complete has no job left: the buffers keep their smallest size.)
+    const uint64_t sized_jobs = std::max<uint64_t>(total_jobs_, 1);
     uint32_t pool = opts_.pool_size ? opts_.pool_size : default_pool_size();
-    pool = uint32_t(std::min<uint64_t>(pool, pad_to_group(total_jobs_)));
+    pool = uint32_t(std::min<uint64_t>(pool, pad_to_group(sized_jobs)));
     pool_ = uint32_t(pad_to_group(pool));
     rp_.pool_size = pool_;
     rp_.num_nodes = uint32_t(bvh_.nodes.size());
     max_batch_ = opts_.max_batch ? opts_.max_batch : 4u * pool_;
-    max_batch_ = uint32_t(std::min<uint64_t>(max_batch_, total_jobs_));
+    max_batch_ = uint32_t(std::min<uint64_t>(max_batch_, sized_jobs));
 
     StageBuffers& b = buf_;
     b.sf = rt_.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool_ * 4);

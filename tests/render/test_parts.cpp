@@ -286,6 +286,20 @@ TEST(Resume, TimeLimitStopsAtAWholeSampleAndResumes) {
   expect_same_film(aw::film_state(render(s14, more), s14), aw::film_state(render(s14, aw_test::quiet_options()), s14));
 }
 
+// A complete film resumes to itself: no job is left, nothing changes, on both renderers.
+TEST(Resume, ACompleteFilmResumesToItself) {
+  const aw::Scene s = cornell();
+  for (bool scalar : {false, true}) {
+    const aw::RenderResult whole = render(s, aw_test::quiet_options(), scalar);
+    aw::RenderOptions r = aw_test::quiet_options();
+    r.resume = &whole;
+    const aw::RenderResult again = render(s, r, scalar);
+    EXPECT_EQ(again.stats.samples, 0u);
+    EXPECT_FALSE(again.stats.interrupted);
+    expect_same_film(aw::film_state(again, s), aw::film_state(whole, s));
+  }
+}
+
 // Checkpoints hand over the film at batch ends with what it holds so far, growing.
 TEST(Resume, CheckpointsHandOverTheFilmSoFar) {
   const aw::Scene s = cornell();
