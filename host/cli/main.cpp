@@ -78,6 +78,17 @@ static double parse_size(const std::string& s) {
   return v < 1.8e19 ? std::floor(v) : -1;
 }
 
+// Parses the command line: -1 to go on, else the exit code (0 after --help, kUsage on an error,
+// which CLI11 has printed).
+static int parse_command_line(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kOk : kUsage;
+  }
+  return -1;
+}
+
 // Inside a catch: prints the exception's message after `prog` and returns its exit code.
 static int exit_code_for_exception(const char* prog) {
   try {
@@ -127,12 +138,7 @@ static int merge_main(int argc, char** argv) {
   app.add_option("parts", inputs, "EXR files archwave wrote with their film state")->required();
   app.add_option("-o,--output", output, "The merged EXR (with its film state; the PNG preview goes beside it)")->required();
   app.add_flag("-q,--quiet", quiet, "Only errors");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    int rc = app.exit(e);
-    return rc == 0 ? kOk : kUsage;
-  }
+  if (int rc = parse_command_line(app, argc, argv); rc >= 0) return rc;
   try {
     check_output_writable(output);
     std::vector<aw::FilmState> parts;
@@ -267,12 +273,7 @@ int main(int argc, char** argv) {
                "more samples or merge it)");
   app.add_option("--stats-json", stats_json,
                  "Also write the render's stats (times, stages, rays, memory) as JSON to this file");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    int rc = app.exit(e);
-    return rc == 0 ? kOk : kUsage;
-  }
+  if (int rc = parse_command_line(app, argc, argv); rc >= 0) return rc;
 
   try {
     if (list) {

@@ -43,6 +43,19 @@ void copy_window(const From& a, To& b) {
   b.frame_height = a.frame_height;
 }
 
+// The film itself (its samples range, scene, sums and counts), between FilmState and RenderResult.
+template <class From, class To>
+void copy_film(const From& a, To& b) {
+  copy_window(a, b);
+  b.sample_start = a.sample_start;
+  b.sample_end = a.sample_end;
+  b.scene_hash = a.scene_hash;
+  b.acc = a.acc;
+  b.count = a.count;
+  b.aov_mask = a.aov_mask;
+  b.aov_acc = a.aov_acc;
+}
+
 }  // namespace
 
 uint32_t FilmState::min_spp() const {
@@ -262,16 +275,27 @@ FilmState read_film_state(const std::string& path) {
   return f;
 }
 
+FilmState film_state(const RenderResult& r, const Scene& scene) {
+  FilmState f;
+  copy_film(r, f);
+  if (f.frame_width <= 0) f.frame_width = r.width;  // a result made by hand: the film is the frame
+  if (f.frame_height <= 0) f.frame_height = r.height;
+  f.exposure = exposure_map(scene.camera);
+  f.spp_requested = uint32_t(scene.render.spp);
+  f.seed = scene.render.seed;
+  f.max_depth = scene.render.max_depth;
+  f.version = ARCHWAVE_VERSION;
+  f.renderer = r.stats.renderer;
+  f.device = r.stats.device;
+  f.scene_path = scene.path;
+  f.interrupted = r.stats.interrupted;
+  f.time_limited = r.stats.time_limited;
+  return f;
+}
+
 RenderResult film_to_result(const FilmState& f) {
   RenderResult r;
-  copy_window(f, r);
-  r.sample_start = f.sample_start;
-  r.sample_end = f.sample_end;
-  r.scene_hash = f.scene_hash;
-  r.acc = f.acc;
-  r.count = f.count;
-  r.aov_mask = f.aov_mask;
-  r.aov_acc = f.aov_acc;
+  copy_film(f, r);
   r.stats.renderer = f.renderer;
   r.stats.device = f.device;
   r.update_sums();

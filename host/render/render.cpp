@@ -27,34 +27,6 @@ Image RenderResult::image(const Scene& scene, bool with_state) const {
   return film_image(f, with_state);
 }
 
-FilmState film_state(const RenderResult& r, const Scene& scene) {
-  FilmState f;
-  f.width = r.width;
-  f.height = r.height;
-  f.x0 = r.x0;
-  f.y0 = r.y0;
-  f.frame_width = r.frame_width > 0 ? r.frame_width : r.width;
-  f.frame_height = r.frame_height > 0 ? r.frame_height : r.height;
-  f.sample_start = r.sample_start;
-  f.sample_end = r.sample_end;
-  f.scene_hash = r.scene_hash;
-  f.acc = r.acc;
-  f.count = r.count;
-  f.aov_mask = r.aov_mask;
-  f.aov_acc = r.aov_acc;
-  f.exposure = exposure_map(scene.camera);
-  f.spp_requested = uint32_t(scene.render.spp);
-  f.seed = scene.render.seed;
-  f.max_depth = scene.render.max_depth;
-  f.version = ARCHWAVE_VERSION;
-  f.renderer = r.stats.renderer;
-  f.device = r.stats.device;
-  f.scene_path = scene.path;
-  f.interrupted = r.stats.interrupted;
-  f.time_limited = r.stats.time_limited;
-  return f;
-}
-
 uint32_t begin_film(const Scene& scene, const RenderOptions& opts, const PackedScene& packed, RenderParams& rp,
                     RenderResult& res) {
   const int fw = int(rp.width), fh = int(rp.height);

@@ -71,7 +71,6 @@ RenderResult render_scalar(const Scene& scene, const RenderOptions& opts) {
   const uint32_t fw = uint32_t(res.width), fh = uint32_t(res.height);
   const uint32_t npix = fw * fh;
   const uint32_t aov_ch = aov_film_channels(res.aov_mask);
-  res.update_sums();
 
   std::atomic<uint64_t> closest{0}, shadow{0}, bad_total{0}, missing{0}, done_samples{0};
   ProgressLine progress((opts.progress_label.empty() ? "rendering" : opts.progress_label) + " (scalar)",
