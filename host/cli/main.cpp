@@ -1,8 +1,8 @@
 // archwave: the command line.
 //
 // Exit codes (docs/cli.md): 0 success; 1 internal error; 2 bad command line; 3 scene error;
-// 4 OpenCL/device error; 5 output cannot be written; 130 interrupted (what was rendered is
-// written first).
+// 4 OpenCL/device error (a device failing mid-render writes its film so far first); 5 output
+// cannot be written; 130 interrupted (what was rendered is written first).
 #include <CLI/CLI.hpp>
 
 #include <unistd.h>
@@ -165,7 +165,8 @@ int main(int argc, char** argv) {
       " - OpenCL wavefront path tracer with the Architectural material.\n"
       "Renders SCENE (JSON, see docs/scene-format.md) to a float EXR and a PNG preview.\n"
       "Flags override the scene file. Exit codes: 0 ok, 2 bad command line, 3 scene error,\n"
-      "4 OpenCL/device error, 5 output error, 130 interrupted (partial image written)."};
+      "4 OpenCL/device error (a device failing mid-render writes the film so far first),\n"
+      "5 output error, 130 interrupted (partial image written)."};
   app.set_version_flag("--version", ARCHWAVE_VERSION);
   std::string scene_path, output, stats_json;
   // Flags are kept as text and handed to the scene loader as overrides, so "--spp -1" or
@@ -430,7 +431,22 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, on_sigint);
     std::signal(SIGTERM, on_sigint);
 
-    aw::RenderResult r = scalar ? aw::render_scalar(scene, opts) : aw::render_wavefront(scene, opts);
+    aw::RenderResult r;
+    try {
+      r = scalar ? aw::render_scalar(scene, opts) : aw::render_wavefront(scene, opts);
+    } catch (const aw::RenderDeviceError& e) {
+      // The device failed mid-render: write what it had, with the film state, so that the
+      // render resumes from it (on this device or another), then fail as a device error.
+      std::cerr << "archwave: " << e.what() << "\n";
+      if (!e.partial) return kDevice;
+      aw::Image img = e.partial->image(scene, true);
+      img.string_attrs["archwave:device_error"] = e.what();
+      aw::write_exr(output, img);
+      aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+      std::cerr << "archwave: wrote " << output << " with the samples completed before the error (" << e.partial->min_spp()
+                << " spp in every pixel); resume with --resume " << output << "\n";
+      return kDevice;
+    }
     r.stats.device_choice = device_choice;
     for (const auto& w : r.stats.warnings) std::cerr << "archwave: warning: " << w << "\n";
     aw::Image img = r.image(scene, with_state || r.stats.interrupted);

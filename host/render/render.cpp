@@ -148,6 +148,11 @@ std::string RenderStats::summary() const {
   }
   if (resumed_samples) s << "resumed         from a film holding " << resumed_samples << " samples\n";
   if (checkpoints) s << "checkpoints     " << checkpoints << " written\n";
+  if (film_snapshots) {
+    std::snprintf(buf, sizeof buf, "film snapshots  %u (%.3f s), kept for a device failing mid-render\n", film_snapshots,
+                  snapshot_seconds);
+    s << buf;
+  }
   if (time_limited) s << "TIME LIMIT      stopped at a whole sample pass; the image holds every sample until then\n";
   if (interrupted) s << "INTERRUPTED     the image holds the samples completed before the interrupt\n";
   return s.str();

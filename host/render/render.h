@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,9 @@ struct RenderOptions {
   std::string progress_label;  // its label ("" = "rendering"), e.g. naming the part
   std::string kernel_dir;     // "" = embedded kernels
   std::string build_options;  // extra OpenCL build options (never fast-math in tests)
+  // Film snapshots on the host (wavefront): at most every this many seconds, and at most ~1%
+  // of the render's time (RenderDeviceError keeps the last); 0 = after every batch; < 0 = none.
+  double snapshot_seconds = 2.0;
   bool generic_kernels = false;  // build every feature in, not just what the scene uses
   std::vector<std::string> force_off;  // feature names to compile out anyway (tests of the guard)
   const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
@@ -87,6 +91,11 @@ struct RenderStats {
   bool time_limited = false;   // stopped by RenderOptions::time_limit at a whole sample pass
   uint32_t checkpoints = 0;    // films handed to RenderOptions::checkpoint
   uint64_t resumed_samples = 0;  // samples the film held when the render began (--resume)
+  // Host copies of the device's film taken while rendering (wavefront), so that a device lost
+  // mid-render still leaves the film as of the last one (RenderDeviceError); and their cost.
+  uint32_t film_snapshots = 0;
+  double snapshot_seconds = 0.0;
+  std::string device_error;  // the OpenCL error that ended the render early ("" = none)
   std::vector<std::string> warnings;
   std::string summary() const;  // multi-line human-readable stats
 };
@@ -115,6 +124,24 @@ struct RenderResult {
   Image image(const Scene& scene, bool with_state = false) const;
 };
 
+// An OpenCL error in the middle of a wavefront render (a device lost or out of resources):
+// what names the call, the error code and the device; `partial` holds the film as the device
+// last gave it (every pixel's completed samples, resumable with RenderOptions::resume), read
+// back after the error when the device still answers, else the last snapshot
+// (RenderStats::film_snapshots). Null when nothing was kept (the error came before any
+// snapshot and the device no longer answers). docs/production.md#a-device-lost-mid-render.
+class RenderDeviceError : public ClError {
+ public:
+  RenderDeviceError(const std::string& what, std::shared_ptr<RenderResult> kept)
+      : ClError(what), partial(std::move(kept)) {}
+  std::shared_ptr<RenderResult> partial;
+};
+
+// Throws SceneError for a scene the build cannot render, ClError for an OpenCL error before
+// rendering began (device set-up, kernel build, allocations) and RenderDeviceError for one
+// after. ARCHWAVE_FAULT (testing only: "launch:N" fails the Nth stage launch with
+// CL_OUT_OF_RESOURCES, "lost:N" also fails every OpenCL call after it, as a lost device does)
+// injects such an error.
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts);
 
 // Both renderers' start: sets res's film (window, sample range, scene_hash; acc and count

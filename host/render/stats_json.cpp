@@ -51,6 +51,8 @@ nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
       {"time_limited", st.time_limited},
       {"checkpoints", st.checkpoints},
       {"resumed_samples", st.resumed_samples},
+      {"film_snapshots", st.film_snapshots},
+      {"snapshot_seconds", st.snapshot_seconds},
       {"part", {{"pixel_bounds", {result.x0, result.x0 + result.width, result.y0, result.y0 + result.height}},
                 {"frame", {result.frame_width, result.frame_height}},
                 {"sample_range", {result.sample_start, result.sample_end}}}},

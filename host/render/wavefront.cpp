@@ -12,7 +12,9 @@
 // the per-launch values the same way, so there is no argument position to keep in step.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -102,7 +104,9 @@ class Wavefront {
  public:
   Wavefront(const Scene& scene, const RenderOptions& opts, RenderResult& res)
       : scene_(scene), opts_(opts), res_(res), st_(res.stats), packed_(pack_scene(scene, &st_.warnings)),
-        rt_(opts.device) {}
+        rt_(opts.device) {
+    parse_fault();
+  }
 
   void render() {
     build_bvh();
@@ -111,12 +115,17 @@ class Wavefront {
       allocate();
       bind();
       warm_up();
-      ProgressLine progress(opts_.progress_label.empty() ? "rendering" : opts_.progress_label, total_jobs_, opts_.progress);
-      uint64_t jobs_done = 0;
+    } catch (const cl::Error& e) {
+      throw ClError(error_text(e));
+    }
+    ProgressLine progress(opts_.progress_label.empty() ? "rendering" : opts_.progress_label, total_jobs_, opts_.progress);
+    uint64_t jobs_done = 0;
+    try {
       // Jobs until which to render: all of them, or (time limit) the end of the sample pass
       // under way when the limit passed, so every pixel has the same number of new samples.
       uint64_t stop_at = total_jobs_;
       auto last_checkpoint = Clock::now();
+      last_snapshot_ = Clock::now();
       while (jobs_done < stop_at) {
         if (cancelled()) break;
         uint32_t batch = uint32_t(std::min<uint64_t>(max_batch_, stop_at - jobs_done));
@@ -129,25 +138,121 @@ class Wavefront {
           st_.time_limited = stop_at < total_jobs_;
           if (st_.time_limited) progress.set_note("time limit: finishing this sample pass");
         }
-        if (opts_.checkpoint && opts_.checkpoint_seconds > 0.0 && jobs_done < stop_at &&
-            since(last_checkpoint) >= opts_.checkpoint_seconds) {
-          read_film();
+        if (jobs_done >= stop_at) break;
+        if (opts_.checkpoint && opts_.checkpoint_seconds > 0.0 && since(last_checkpoint) >= opts_.checkpoint_seconds) {
+          snapshot();
+          res_.update_sums();
           opts_.checkpoint(res_);
           ++st_.checkpoints;
           progress.set_note("checkpoint " + std::to_string(st_.checkpoints) + " written");
           last_checkpoint = Clock::now();
+        } else if (opts_.snapshot_seconds == 0.0 ||
+                   (opts_.snapshot_seconds > 0.0 &&
+                    since(last_snapshot_) >= std::max(opts_.snapshot_seconds, kSnapshotCostFactor * last_snapshot_cost_))) {
+          snapshot();
         }
       }
       progress.finish();
       st_.interrupted = jobs_done < stop_at;
       read_back();
     } catch (const cl::Error& e) {
-      throw ClError(std::string("OpenCL error while rendering on ") + rt_.info().name + ": " + e.what() + " (" +
-                    cl_error_name(e.err()) + ")");
+      progress.finish();
+      device_failed(e);
     }
   }
 
  private:
+  // "OpenCL error while rendering on DEVICE: CALL (CODE)": the call and the error code come
+  // from the C++ bindings' exception (the failing clXxx function and its status).
+  std::string error_text(const cl::Error& e) const {
+    return std::string("OpenCL error while rendering on ") + rt_.info().name + ": " + e.what() + " (" +
+           cl_error_name(e.err()) + ")";
+  }
+
+  // Snapshots of the film: a device lost mid-render loses at most the work since the last one
+  // (and the batch under way). Taken after a batch at most every RenderOptions::snapshot_seconds
+  // (2 s), and never sooner than kSnapshotCostFactor times the last one's cost after it, so
+  // they cost at most ~1% of the render however large the film (docs/production.md).
+  static constexpr double kSnapshotCostFactor = 100.0;
+
+  // The film's words and counts from the device into res_. res_ is not a usable film while
+  // a read is under way: if one fails half-way, only a read after the error can keep anything.
+  void snapshot() {
+    auto t0 = Clock::now();
+    film_kept_ = false;
+    read_film_words(res_.acc, res_.count, res_.aov_acc);
+    film_kept_ = true;
+    last_snapshot_ = Clock::now();
+    last_snapshot_cost_ = since(t0);
+    ++st_.film_snapshots;
+    st_.snapshot_seconds += last_snapshot_cost_;
+  }
+
+  void read_film_words(std::vector<uint64_t>& acc, std::vector<uint32_t>& count, std::vector<uint64_t>& aov_acc) {
+    check_fault_lost("clEnqueueReadBuffer");
+    auto& q = rt_.queue();
+    q.enqueueReadBuffer(buf_.film, CL_TRUE, 0, acc.size() * 8, acc.data());
+    q.enqueueReadBuffer(buf_.film_count, CL_TRUE, 0, count.size() * 4, count.data());
+    if (!aov_acc.empty()) q.enqueueReadBuffer(buf_.aov_film, CL_TRUE, 0, aov_acc.size() * 8, aov_acc.data());
+  }
+
+  // An OpenCL error after rendering began. The film on the device holds whole samples up to
+  // the last film_accumulate that ran (a batch cut short never reached its own), so it is
+  // read back when the device still answers; else the last snapshot stands. Either way the
+  // error leaves with the film, for the caller to write and to resume from.
+  void device_failed(const cl::Error& e) {
+    std::string what = error_text(e);
+    st_.device_error = what;
+    st_.interrupted = true;
+    std::string kept;
+    bool answered = false;
+    try {
+      std::vector<uint64_t> acc(res_.acc.size()), aov(res_.aov_acc.size());
+      std::vector<uint32_t> count(res_.count.size());
+      read_film_words(acc, count, aov);
+      res_.acc.swap(acc);
+      res_.count.swap(count);
+      res_.aov_acc.swap(aov);
+      film_kept_ = true;
+      answered = true;
+      kept = "read back after the error";
+    } catch (const cl::Error& again) {
+      kept = "from the last snapshot, " + std::to_string(int(std::lround(since(last_snapshot_)))) +
+             " s before the error: the device no longer answers (" + again.what() + ": " + cl_error_name(again.err()) + ")";
+    }
+    st_.total_seconds = since(t_start_);
+    if (!film_kept_) throw RenderDeviceError(what + "; no film could be kept (the device failed while its film was read)", nullptr);
+    uint64_t held = 0;
+    for (uint32_t c : res_.count) held += c;
+    if (held == 0 && !answered && st_.film_snapshots == 0)
+      throw RenderDeviceError(what + "; no film was kept: no snapshot had been taken yet and " + kept.substr(kept.find("the device")),
+                              nullptr);
+    if (held == 0) throw RenderDeviceError(what + "; no sample had been completed (" + kept + ")", nullptr);
+    res_.update_sums();
+    st_.samples = held - st_.resumed_samples;
+    auto partial = std::make_shared<RenderResult>(std::move(res_));
+    throw RenderDeviceError(what + "; the film keeps " + std::to_string(held) + " samples, " + kept, partial);
+  }
+
+  // ARCHWAVE_FAULT, for the tests of the above: "launch:N" makes the Nth stage launch fail,
+  // "lost:N" also every OpenCL call after it (a lost device answers nothing).
+  void parse_fault() {
+    const char* f = std::getenv("ARCHWAVE_FAULT");
+    if (!f || !*f) return;
+    std::string v = f;
+    size_t colon = v.find(':');
+    std::string mode = v.substr(0, colon);
+    char* end = nullptr;
+    unsigned long n = colon == std::string::npos ? 0 : std::strtoul(v.c_str() + colon + 1, &end, 10);
+    if ((mode != "launch" && mode != "lost") || n == 0 || !end || *end)
+      throw std::invalid_argument("ARCHWAVE_FAULT=" + v + ": not launch:N or lost:N with N >= 1 (a testing aid)");
+    fault_at_ = n;
+    fault_lost_ = mode == "lost";
+  }
+  void check_fault_lost(const char* call) const {
+    if (lost_) throw cl::Error(CL_OUT_OF_RESOURCES, call);
+  }
+
   bool cancelled() const { return opts_.cancel && opts_.cancel->load(); }
 
   void build_bvh() {
@@ -347,6 +452,11 @@ class Wavefront {
     if (n == 0 && s.queue >= 0) return;
     if (!s.kernel())
       throw std::logic_error("wavefront: paths queued for '" + s.name + "', which this kernel build does not have");
+    check_fault_lost("clEnqueueNDRangeKernel");
+    if (fault_at_ && ++launches_ == fault_at_) {
+      lost_ = fault_lost_;
+      throw cl::Error(CL_OUT_OF_RESOURCES, "clEnqueueNDRangeKernel");
+    }
     auto t0 = Clock::now();
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction : kDenseFraction;
@@ -427,10 +537,7 @@ class Wavefront {
 
   // The film so far into res_ (acc, count, sum, samples).
   void read_film() {
-    auto& q = rt_.queue();
-    q.enqueueReadBuffer(buf_.film, CL_TRUE, 0, res_.acc.size() * 8, res_.acc.data());
-    q.enqueueReadBuffer(buf_.film_count, CL_TRUE, 0, res_.count.size() * 4, res_.count.data());
-    if (!res_.aov_acc.empty()) q.enqueueReadBuffer(buf_.aov_film, CL_TRUE, 0, res_.aov_acc.size() * 8, res_.aov_acc.data());
+    snapshot();
     res_.update_sums();
     uint64_t held = 0;
     for (uint32_t c : res_.count) held += c;
@@ -475,6 +582,11 @@ class Wavefront {
   size_t regen_ = 0, isect_ = 0, classify_ = 0, ao_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
   size_t shade_[AW_LID_COUNT] = {};
   uint32_t cnt_[AW_Q_COUNT] = {};  // the host's copy of the queue counters
+  Clock::time_point last_snapshot_ = Clock::now();
+  double last_snapshot_cost_ = 0.0;
+  bool film_kept_ = true;  // res_ holds a whole film (begin_film's, or a finished snapshot)
+  unsigned long fault_at_ = 0, launches_ = 0;  // ARCHWAVE_FAULT
+  bool fault_lost_ = false, lost_ = false;
 };
 
 }  // namespace

@@ -41,9 +41,10 @@ struct CliRun {
 };
 
 // Runs archwave with `args`, capturing stderr; returns the exit code.
-CliRun run(const std::string& args) {
+// `env`: assignments put before the command ("NAME=value ...").
+CliRun run(const std::string& args, const std::string& env = "") {
   std::string errfile = scratch() + "/archwave_stderr.txt";
-  std::string cmd = std::string(ARCHWAVE_BINARY) + " " + args + " 2>" + errfile + " >/dev/null";
+  std::string cmd = (env.empty() ? "" : env + " ") + std::string(ARCHWAVE_BINARY) + " " + args + " 2>" + errfile + " >/dev/null";
   int status = std::system(cmd.c_str());
   std::ifstream in(errfile);
   std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -462,6 +463,36 @@ TEST(CliParts, TerminatedThenResumedIsTheSingleRenderBitForBit) {
   CliRun r = run(scene + kProdArgs + " --spp 1500 --resume " + out + " -o " + d + "sig_resumed.exr");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_TRUE(same_pixels(d + "sig_resumed.exr", d + "sig_whole.exr"));
+}
+
+// An OpenCL error mid-render (ARCHWAVE_FAULT injects one at the Nth stage launch; a device
+// lost answers nothing more): exit 4 with the call, the error code and the device named, and
+// the film so far written with its state, so that --resume completes the render bit for bit
+// as if nothing had happened. When the device is lost before the first snapshot, nothing is
+// written (docs/production.md#a-device-lost-mid-render).
+TEST(CliParts, ADeviceFailingMidRenderWritesItsFilmAndResumesBitForBit) {
+  const std::string scene = src("scenes/cornell.json"), d = scratch() + "/";
+  // 48 x 32 x 64 samples in batches of 4 x 1024 jobs: 24 batches of a few dozen launches each.
+  const std::string args = kProdArgs + " --spp 64 --pool 1024";
+  ASSERT_EQ(run(scene + args + " -o " + d + "dev_whole.exr").code, 0);
+  CliRun f = run(scene + args + " -o " + d + "dev_part.exr", "ARCHWAVE_FAULT=launch:300");
+  ASSERT_EQ(f.code, 4) << f.err;
+  for (const char* named : {"clEnqueueNDRangeKernel", "CL_OUT_OF_RESOURCES", "rendering on ", "the film keeps",
+                            "--resume " /* how to go on */})
+    EXPECT_NE(f.err.find(named), std::string::npos) << named << " in: " << f.err;
+  const aw::Image part = aw::read_exr(d + "dev_part.exr");
+  EXPECT_GT(part.int_attrs.at("spp"), 0);
+  EXPECT_LT(part.int_attrs.at("spp"), 64);
+  EXPECT_NE(part.string_attrs.at("archwave:device_error").find("CL_OUT_OF_RESOURCES"), std::string::npos);
+  CliRun r = run(scene + args + " --resume " + d + "dev_part.exr -o " + d + "dev_resumed.exr");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(same_pixels(d + "dev_resumed.exr", d + "dev_whole.exr"));
+  // Lost at the third launch: no snapshot yet, nothing written.
+  CliRun lost = run(scene + args + " -o " + d + "dev_lost.exr", "ARCHWAVE_FAULT=lost:3");
+  EXPECT_EQ(lost.code, 4) << lost.err;
+  EXPECT_NE(lost.err.find("no film was kept"), std::string::npos) << lost.err;
+  EXPECT_NE(lost.err.find("the device no longer answers"), std::string::npos) << lost.err;
+  EXPECT_FALSE(fs::exists(d + "dev_lost.exr"));
 }
 
 // Killed (SIGKILL: no handler runs) while checkpointing again and again: the file at the output

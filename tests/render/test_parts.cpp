@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <random>
 #include <string>
 #include <thread>
@@ -318,6 +319,73 @@ TEST(Resume, CheckpointsHandOverTheFilmSoFar) {
   ASSERT_GE(held.size(), 2u);
   for (size_t i = 0; i < held.size(); ++i) EXPECT_EQ(held[i], uint64_t(2000) * (i + 1));
   EXPECT_EQ(r.stats.checkpoints, held.size());
+}
+
+// A device lost mid-render (ARCHWAVE_FAULT, docs/production.md#a-device-lost-mid-render):
+// with a snapshot after every batch, the film kept is the last whole batch's, and resuming it
+// gives the uninterrupted render bit for bit. An error that leaves the device answering reads
+// the film back after it: the same film, with or without snapshots. Lost with no snapshot
+// taken, nothing is kept.
+TEST(Resume, ADeviceLostMidRenderKeepsItsFilmAndResumes) {
+  const aw::Scene s = cornell();
+  const aw::FilmState whole = aw::film_state(render(s, aw_test::quiet_options()), s);
+  auto failing = [&](const char* fault, double snapshot_seconds) -> std::shared_ptr<aw::RenderResult> {
+    aw::RenderOptions o = aw_test::quiet_options();
+    o.max_batch = 1000;
+    o.pool_size = 512;
+    o.snapshot_seconds = snapshot_seconds;
+    setenv("ARCHWAVE_FAULT", fault, 1);
+    std::shared_ptr<aw::RenderResult> kept;
+    try {
+      render(s, o);
+      ADD_FAILURE() << fault << ": the render did not fail";
+    } catch (const aw::RenderDeviceError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("clEnqueue"), std::string::npos) << what;
+      EXPECT_NE(what.find("CL_OUT_OF_RESOURCES"), std::string::npos) << what;
+      kept = e.partial;
+      std::printf("%s, snapshots every %g s: %s\n", fault, snapshot_seconds, what.c_str());
+    }
+    unsetenv("ARCHWAVE_FAULT");
+    return kept;
+  };
+  auto held = [](const aw::RenderResult& r) {
+    uint64_t n = 0;
+    for (uint32_t c : r.count) n += c;
+    return n;
+  };
+  // Launch 200 falls in the fifth of the six batches (measured: the film keeps 4000 samples).
+  std::shared_ptr<aw::RenderResult> lost = failing("lost:200", 0.0);
+  ASSERT_TRUE(lost);
+  EXPECT_TRUE(lost->stats.interrupted);
+  EXPECT_NE(lost->stats.device_error.find("CL_OUT_OF_RESOURCES"), std::string::npos);
+  EXPECT_GE(lost->stats.film_snapshots, 1u);
+  const uint64_t n = held(*lost);
+  EXPECT_GT(n, 0u);
+  EXPECT_LT(n, uint64_t(37 * 23 * 7));
+  EXPECT_EQ(n % 1000, 0u) << "a snapshot holds whole batches";
+  const aw::RenderResult back = through_exr(*lost, s, "device_lost");
+  aw::RenderOptions r = aw_test::quiet_options();
+  r.resume = &back;
+  expect_same_film(aw::film_state(render(s, r), s), whole);
+  // The device still answers: the film read back after the error is the same, snapshots or not.
+  for (double snap : {0.0, -1.0}) {
+    std::shared_ptr<aw::RenderResult> read = failing("launch:200", snap);
+    ASSERT_TRUE(read);
+    EXPECT_EQ(read->acc, lost->acc);
+    EXPECT_EQ(read->count, lost->count);
+  }
+  // Lost with snapshots off: nothing to keep.
+  EXPECT_FALSE(failing("lost:200", -1.0));
+  // A bad value of the testing aid is refused, naming it.
+  setenv("ARCHWAVE_FAULT", "lost:x", 1);
+  try {
+    render(s, aw_test::quiet_options());
+    ADD_FAILURE() << "ARCHWAVE_FAULT=lost:x accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ARCHWAVE_FAULT=lost:x"), std::string::npos) << e.what();
+  }
+  unsetenv("ARCHWAVE_FAULT");
 }
 
 // What does not belong together is refused, naming the reason.
