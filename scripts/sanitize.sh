@@ -30,12 +30,16 @@ export ASAN_OPTIONS="abort_on_error=1"
 export LSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export POCL_CACHE_DIR="$PWD/build-asan/pocl-cache" ARCHWAVE_KERNEL_CACHE="$PWD/build-asan/kernel-cache"
+# The 16384 x 16384 texture test holds 6 GB of texels (20 s); under AddressSanitizer's shadow
+# memory and slowdown it would not fit beside another test in CI's machine. Its code paths (the
+# loader, the packer, the lookups) run under the sanitizers on the texture area's other images.
+asan_exclude='LargestImageReadsItsFarCornerAtLevelZero'
 no_cl="^(scene|film|integrator)\$"  # the areas that never start an OpenCL runtime: leak-checked
 run() {  # run LABEL_REGEX EXCLUDE_REGEX: the leak-checked areas, then the others in LABEL_REGEX
   local status=0
-  ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=1" ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 1800 \
+  ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=1" ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 1800 -E "$asan_exclude" \
     -L "$no_cl" -LE "$2" || status=1
-  ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 1800 \
+  ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 1800 -E "$asan_exclude" \
     -L "$1" -LE "$2|^(scene|film|integrator)\$" || status=1
   return $status
 }
@@ -49,7 +53,7 @@ else
   status=0
   run "^($(IFS='|'; echo "${labels[*]}"))\$" "^(long|intel)\$" || status=1
   if [ $default = 1 ]; then
-    ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 1800 \
+    ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" ctest --test-dir build-asan --output-on-failure -j"$jobs" --timeout 1800 -E "$asan_exclude" \
       -L '^render$' -LE '^(long|intel)$' -R "$render_slice" || status=1
   fi
   exit $status

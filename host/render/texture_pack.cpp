@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <map>
 
 #include "host/scene/texture_inputs.h"
 #include "kernels/material/lobe_list.h"
@@ -13,32 +14,54 @@ namespace aw {
 
 namespace {
 
-// One mip level, RGBA floats.
+// One mip level, RGBA floats: level 0 is read where the loader left it (TextureDesc::texels,
+// 4 GiB at 16384 x 16384 texels: copying it doubled the peak memory and the time of packing a
+// texture that large), the coarser ones are owned here.
 struct Level {
   int w = 0, h = 0;
-  std::vector<float> rgba;
+  const float* rgba = nullptr;
+  std::vector<float> own;
 };
 
 // The next level: each texel the mean of the 2x2 block above it (a box filter; an odd last
 // row or column of the finer level is averaged into its neighbour's block, so no texel is
-// dropped and the mean is kept).
+// dropped and the mean is kept). Every texel's sum is taken in the finer level's row order
+// (row by row, left to right, from 0) and divided by its count.
 Level downsample(const Level& a) {
   Level b;
   b.w = std::max(1, a.w / 2);
   b.h = std::max(1, a.h / 2);
-  b.rgba.assign(size_t(b.w) * size_t(b.h) * 4, 0.0f);
+  b.own.assign(size_t(b.w) * size_t(b.h) * 4, 0.0f);
+  if (a.w % 2 == 0 && a.h % 2 == 0) {
+    // Every block is 2 x 2 (the common case, and all of a power-of-two pyramid but its 1-texel
+    // rows or columns): the same sums in the same order, without the per-texel weights.
+    for (int by = 0; by < b.h; ++by) {
+      const float* r0 = a.rgba + size_t(2 * by) * size_t(a.w) * 4;
+      const float* r1 = r0 + size_t(a.w) * 4;
+      float* o = b.own.data() + size_t(by) * size_t(b.w) * 4;
+      for (int bx = 0; bx < b.w; ++bx)
+        for (int c = 0; c < 4; ++c) {
+          const size_t i = size_t(2 * bx) * 4 + size_t(c);
+          o[size_t(bx) * 4 + size_t(c)] = (((0.0f + r0[i]) + r0[i + 4]) + r1[i]) + r1[i + 4];
+          o[size_t(bx) * 4 + size_t(c)] /= 4.0f;
+        }
+    }
+    b.rgba = b.own.data();
+    return b;
+  }
   std::vector<float> weight(size_t(b.w) * size_t(b.h), 0.0f);
   for (int y = 0; y < a.h; ++y) {
     const int by = std::min(y / 2, b.h - 1);
     for (int x = 0; x < a.w; ++x) {
       const int bx = std::min(x / 2, b.w - 1);
       const size_t bi = size_t(by) * size_t(b.w) + size_t(bx);
-      for (int c = 0; c < 4; ++c) b.rgba[bi * 4 + size_t(c)] += a.rgba[(size_t(y) * size_t(a.w) + size_t(x)) * 4 + size_t(c)];
+      for (int c = 0; c < 4; ++c) b.own[bi * 4 + size_t(c)] += a.rgba[(size_t(y) * size_t(a.w) + size_t(x)) * 4 + size_t(c)];
       weight[bi] += 1.0f;
     }
   }
   for (size_t i = 0; i < weight.size(); ++i)
-    for (int c = 0; c < 4; ++c) b.rgba[i * 4 + size_t(c)] /= weight[i];
+    for (int c = 0; c < 4; ++c) b.own[i * 4 + size_t(c)] /= weight[i];
+  b.rgba = b.own.data();
   return b;
 }
 
@@ -55,7 +78,9 @@ void put_level(const Level& l, uint32_t format, int channels, std::vector<uint8_
       const float v = l.rgba[i * 4 + size_t(src[channels - 1][c])];
       const size_t k = i * size_t(channels) + size_t(c);
       if (format == AW_TEXFMT_U8) {
-        dst[k] = uint8_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f));
+        // lround of a value in [0, 255], as floor(x + 0.5) taken in double (exact there; in
+        // float, 0.49999997f + 0.5f would round up to 1): the same bytes, without a call per texel.
+        dst[k] = uint8_t(double(std::clamp(v, 0.0f, 1.0f) * 255.0f) + 0.5);
       } else if (format == AW_TEXFMT_F16) {
         const uint16_t h = Imath::half(v).bits();
         std::memcpy(dst + 2 * k, &h, 2);
@@ -105,10 +130,18 @@ PackedTextures pack_textures(const Scene& scene) {
                              : AW_TEXFMT_F32;
       g.width = uint32_t(t.width);
       g.height = uint32_t(t.height);
+      // The whole pyramid's bytes at once: growing the buffer level by level copied level 0 again.
+      size_t pyramid = 0;
+      const size_t texel_bytes = size_t(g.channels) * (g.format == AW_TEXFMT_U8 ? 1 : g.format == AW_TEXFMT_F16 ? 2 : 4);
+      for (int w = t.width, h = t.height;; w = std::max(1, w / 2), h = std::max(1, h / 2)) {
+        pyramid += (size_t(w) * size_t(h) * texel_bytes + 3) & ~size_t(3);
+        if (w == 1 && h == 1) break;
+      }
+      p.texels.reserve(p.texels.size() + pyramid);
       Level l;
       l.w = t.width;
       l.h = t.height;
-      l.rgba = t.texels;
+      l.rgba = t.texels.data();
       for (uint32_t k = 0; k < AW_TEX_MAX_LEVELS; ++k) {
         if (p.texels.size() > 0xffffffffull)
           throw SceneError(scene.path + ": textures: the textures' texels take more than the 4 GiB the kernels address");
@@ -138,26 +171,44 @@ void pack_material_textures(const Scene& scene, const MaterialDesc& d, MaterialG
                      (d.reflection2.disable_bump ? 1u << AW_LID_REFLECTION2 : 0u) |
                      (d.refraction.disable_bump ? 1u << AW_LID_REFRACTION : 0u);
   // The texture's range of values per channel (R, G, B, A, luminance), for the constants that
-  // decide the features.
-  auto channel_range = [&](const TextureDesc& t, uint32_t ch, float* lo, float* hi) {
-    *lo = std::numeric_limits<float>::max();
-    *hi = -std::numeric_limits<float>::max();
-    auto visit = [&](const float* c) {
-      const float v = ch < 4 ? c[ch] : 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
-      *lo = std::min(*lo, v);
-      *hi = std::max(*hi, v);
-    };
-    if (t.type == TextureDesc::Type::Image) {
-      for (size_t i = 0; i + 3 < t.texels.size(); i += 4) visit(&t.texels[i]);
-    } else {
-      const float c1[4] = {t.color1.x, t.color1.y, t.color1.z, 1.0f}, c2[4] = {t.color2.x, t.color2.y, t.color2.z, 1.0f};
-      visit(c1);
-      visit(c2);
+  // decide the features: all five in one pass over the texels (a 16384 x 16384 image has 4 GiB
+  // of them), once per texture the material reads.
+  struct Range {
+    float lo[5], hi[5];
+  };
+  std::map<uint32_t, Range> ranges;
+  auto channel_range = [&](uint32_t texture, uint32_t ch, float* lo, float* hi) {
+    auto found = ranges.find(texture);
+    if (found == ranges.end()) {
+      const TextureDesc& t = scene.textures[texture];
+      Range r;
+      for (int k = 0; k < 5; ++k) {
+        r.lo[k] = std::numeric_limits<float>::max();
+        r.hi[k] = -std::numeric_limits<float>::max();
+      }
+      auto visit = [&](const float* c) {
+        const float v[5] = {c[0], c[1], c[2], c[3], 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]};
+        for (int k = 0; k < 5; ++k) {
+          r.lo[k] = std::min(r.lo[k], v[k]);
+          r.hi[k] = std::max(r.hi[k], v[k]);
+        }
+      };
+      if (t.type == TextureDesc::Type::Image) {
+        for (size_t i = 0; i + 3 < t.texels.size(); i += 4) visit(&t.texels[i]);
+      } else {
+        const float c1[4] = {t.color1.x, t.color1.y, t.color1.z, 1.0f}, c2[4] = {t.color2.x, t.color2.y, t.color2.z, 1.0f};
+        visit(c1);
+        visit(c2);
+      }
+      for (int k = 0; k < 5; ++k)
+        if (r.lo[k] > r.hi[k]) r.lo[k] = r.hi[k] = 0.0f;
+      found = ranges.emplace(texture, r).first;
     }
-    if (*lo > *hi) *lo = *hi = 0.0f;
+    const uint32_t k = ch < 4 ? ch : 4;
+    *lo = found->second.lo[k];
+    *hi = found->second.hi[k];
   };
   for (const auto& [key, ref] : d.textures) {
-    const TextureDesc& t = scene.textures[ref.texture];
     TexBindingGpu b;
     std::memset(&b, 0, sizeof(b));
     b.texture = ref.texture;
@@ -190,7 +241,7 @@ void pack_material_textures(const Scene& scene, const MaterialDesc& d, MaterialG
     for (uint32_t k = 0; k < in->count; ++k) {
       const uint32_t ch = b.channel == AW_TEXCH_RGB ? k : b.channel;
       float lo = 0.0f, hi = 0.0f;
-      channel_range(t, ch, &lo, &hi);
+      channel_range(ref.texture, ch, &lo, &hi);
       const float a = std::clamp(b.offset + b.multiplier * lo, b.lo, b.hi);
       const float z = std::clamp(b.offset + b.multiplier * hi, b.lo, b.hi);
       w[in->word + k] = std::fabs(z) >= std::fabs(a) ? z : a;

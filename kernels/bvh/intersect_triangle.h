@@ -62,12 +62,24 @@ AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return 0;
   float det = U + V + W;
   if (det == 0.0f) return 0;
-  // Scaled hit distance (Sec. 3), divided once by the determinant and then compared with the
-  // interval (the paper compares T against the scaled interval before dividing; dividing first
-  // costs the division for misses too but keeps t_min exclusive exactly as the stages need).
-  float T = U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz);
+  // The hit distance from the triangle's plane, t = ((v0 - org) . n) / (dir . n) with
+  // n = (v1 - v0) x (v2 - v0) and dir . n = (sx n_kx + sy n_ky + n_kz) / sz, instead of the
+  // paper's scaled distance T = U az + V bz + W cz (Sec. 3): T adds the edge functions times
+  // the vertices' distances along the ray, so their rounding (absolute, of the size of the
+  // products of the sheared coordinates) is multiplied by those distances. For a long, thin
+  // triangle far larger than the ray's distance to it that error exceeds t itself: a 2e4 x 1
+  // triangle at distance ~1 got t wrong by up to 13, and 2-3% of the rays that hit it missed
+  // (t < 0), where the plane errs by 5e-6 as Embree does (BvhVsEmbree.LongThinTrianglesKeep-
+  // TheirDistance, Extremes.DegenerateMeshGeometryRendersCleanAndWatertight). The edge
+  // functions alone still decide hit or miss (watertight). Written out, not dot/cross, so that
+  // the host and the device round the same operations. T stays the fallback where the plane
+  // gives no finite t (a sliver whose edges' cross product rounds to 0).
   float inv_det = 1.0f / det;
-  float t = T * inv_det;
+  float3 e1 = v1 - v0, e2 = v2 - v0;
+  float3 n = make_float3(e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x);
+  float dn = s.sx * f3_get(n, s.kx) + s.sy * f3_get(n, s.ky) + f3_get(n, s.kz);
+  float t = (a3.x * n.x + a3.y * n.y + a3.z * n.z) * s.sz / dn;
+  if (!isfinite(t)) t = (U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz)) * inv_det;
   if (!(t > t_min && t < t_max)) return 0;
   *t_out = t;
   *u_out = V * inv_det;
