@@ -62,23 +62,41 @@ AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return 0;
   float det = U + V + W;
   if (det == 0.0f) return 0;
-  // The hit distance from the triangle's plane, t = ((v0 - org) . n) / (dir . n) with
-  // n = (v1 - v0) x (v2 - v0) and dir . n = (sx n_kx + sy n_ky + n_kz) / sz, instead of the
-  // paper's scaled distance T = U az + V bz + W cz (Sec. 3): T adds the edge functions times
-  // the vertices' distances along the ray, so their rounding (absolute, of the size of the
-  // products of the sheared coordinates) is multiplied by those distances. For a long, thin
-  // triangle far larger than the ray's distance to it that error exceeds t itself: a 2e4 x 1
-  // triangle at distance ~1 got t wrong by up to 13, and 2-3% of the rays that hit it missed
-  // (t < 0), where the plane errs by 5e-6 as Embree does (BvhVsEmbree.LongThinTrianglesKeep-
-  // TheirDistance, Extremes.DegenerateMeshGeometryRendersCleanAndWatertight). The edge
-  // functions alone still decide hit or miss (watertight). Written out, not dot/cross, so that
-  // the host and the device round the same operations. T stays the fallback where the plane
-  // gives no finite t (a sliver whose edges' cross product rounds to 0).
+  // The hit distance from the triangle's plane, t = ((vk - org) . n) / (dir . n) with
+  // dir . n = (sx n_kx + sy n_ky + n_kz) / sz, instead of the paper's scaled distance
+  // T = U az + V bz + W cz (Sec. 3): T adds the edge functions times the vertices' distances
+  // along the ray, so their rounding (absolute, of the size of the products of the sheared
+  // coordinates) is multiplied by those distances. For a long, thin triangle far larger than
+  // the ray's distance to it that error exceeds t itself: a 2e4 x 1 triangle at distance ~1
+  // got t wrong by up to 13, and 2-3% of the rays that hit it missed (t < 0), where the plane
+  // errs by 5e-6 as Embree does (BvhVsEmbree.LongThinTrianglesKeepTheirDistance,
+  // Extremes.DegenerateMeshGeometryRendersCleanAndWatertight). The plane is taken at vk, the
+  // corner opposite the longest edge, with n the cross product of the two shorter edges, which
+  // meet there at the triangle's widest angle: from a needle's tip, two long, nearly parallel
+  // edges cancel in the cross product, and a ray starting 1e-5 from a needle's plane got the
+  // wrong sign of t (BvhVsEmbree.RandomSoupWithSlivers, built with clang). The edge functions
+  // alone still decide hit or miss (watertight). Written out, not dot/cross, so that the host
+  // and the device round the same operations. T stays the fallback where the plane gives no
+  // finite t (a sliver whose edges' cross product rounds to 0).
   float inv_det = 1.0f / det;
-  float3 e1 = v1 - v0, e2 = v2 - v0;
-  float3 n = make_float3(e1.y * e2.z - e1.z * e2.y, e1.z * e2.x - e1.x * e2.z, e1.x * e2.y - e1.y * e2.x);
+  float3 e01 = v1 - v0, e12 = v2 - v1, e20 = v0 - v2;
+  float l01 = e01.x * e01.x + e01.y * e01.y + e01.z * e01.z;
+  float l12 = e12.x * e12.x + e12.y * e12.y + e12.z * e12.z;
+  float l20 = e20.x * e20.x + e20.y * e20.y + e20.z * e20.z;
+  // vk and its two edges (both pointing away from it, so n keeps the winding's orientation).
+  float3 p = a3, ea = e01, eb = -e20;  // k = 0: the longest edge is v1 v2
+  if (l20 >= l12 && l20 >= l01) {      // k = 1: the longest edge is v2 v0
+    p = b3;
+    ea = e12;
+    eb = -e01;
+  } else if (l01 >= l12 && l01 >= l20) {  // k = 2: the longest edge is v0 v1
+    p = c3;
+    ea = e20;
+    eb = -e12;
+  }
+  float3 n = make_float3(ea.y * eb.z - ea.z * eb.y, ea.z * eb.x - ea.x * eb.z, ea.x * eb.y - ea.y * eb.x);
   float dn = s.sx * f3_get(n, s.kx) + s.sy * f3_get(n, s.ky) + f3_get(n, s.kz);
-  float t = (a3.x * n.x + a3.y * n.y + a3.z * n.z) * s.sz / dn;
+  float t = (p.x * n.x + p.y * n.y + p.z * n.z) * s.sz / dn;
   if (!isfinite(t)) t = (U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz)) * inv_det;
   if (!(t > t_min && t < t_max)) return 0;
   *t_out = t;
