@@ -90,6 +90,13 @@ static int parse_command_line(CLI::App& app, int argc, char** argv) {
 }
 
 // Inside a catch: prints the exception's message after `prog` and returns its exit code.
+// The EXR and its PNG preview beside it. The EXR already holds radiance x exposure; the preview
+// adds only the sRGB curve.
+static void write_image(const std::string& output, const aw::Image& img) {
+  aw::write_exr(output, img);
+  aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+}
+
 static int exit_code_for_exception(const char* prog) {
   try {
     throw;
@@ -148,9 +155,7 @@ static int merge_main(int argc, char** argv) {
     bool resumable = true;
     aw::FilmState merged = aw::merge_films(parts, inputs, &report, &warnings, &resumable);
     for (const auto& w : warnings) std::cerr << "archwave merge: warning: " << w << "\n";
-    aw::Image img = aw::film_image(merged, resumable);
-    aw::write_exr(output, img);
-    aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+    write_image(output, aw::film_image(merged, resumable));
     if (!quiet) std::cerr << report << "\nwrote " << output << " and " << aw::png_path_for(output) << "\n";
     return kOk;
   } catch (...) {
@@ -409,8 +414,7 @@ int main(int argc, char** argv) {
       opts.checkpoint = [&](const aw::RenderResult& partial) {
         aw::Image img = partial.image(scene, true);
         img.string_attrs["archwave:checkpoint"] = "yes";
-        aw::write_exr(output, img);
-        aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+        write_image(output, img);
       };
     std::string device_choice;
     if (!scalar && !device.empty()) {
@@ -441,8 +445,7 @@ int main(int argc, char** argv) {
       if (!e.partial) return kDevice;
       aw::Image img = e.partial->image(scene, true);
       img.string_attrs["archwave:device_error"] = e.what();
-      aw::write_exr(output, img);
-      aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
+      write_image(output, img);
       std::cerr << "archwave: wrote " << output << " with the samples completed before the error (" << e.partial->min_spp()
                 << " spp in every pixel); resume with --resume " << output << "\n";
       return kDevice;
@@ -450,10 +453,8 @@ int main(int argc, char** argv) {
     r.stats.device_choice = device_choice;
     for (const auto& w : r.stats.warnings) std::cerr << "archwave: warning: " << w << "\n";
     aw::Image img = r.image(scene, with_state || r.stats.interrupted);
-    aw::write_exr(output, img);
-    std::string png = aw::png_path_for(output);
-    // The EXR already holds radiance x exposure; the preview adds only the sRGB curve.
-    aw::write_png_preview(png, img, 1.0f);
+    write_image(output, img);
+    const std::string png = aw::png_path_for(output);
     if (!stats_json.empty()) aw::write_stats_json(stats_json, r, scene);
     if (!quiet) std::cerr << r.stats.summary();
     std::cerr << "wrote " << output << " and " << png << " (" << r.min_spp() << " spp";

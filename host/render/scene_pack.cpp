@@ -280,9 +280,10 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
     ps.soup.spheres.push_back(glm::vec4(sd.center, sd.radius));
   }
 
+  TextureRanges ranges(scene);
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     ps.materials.push_back(pack_material(scene.materials[i], scene.render, exposure_scale(scene.camera.exposure)));
-    pack_material_textures(scene, scene.materials[i], &ps.materials.back(), &ps.tex_bindings);
+    pack_material_textures(scene, scene.materials[i], ranges, &ps.materials.back(), &ps.tex_bindings);
   }
   if (!ps.tex_bindings.empty()) {
     PackedTextures pt = pack_textures(scene);

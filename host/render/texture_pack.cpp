@@ -159,7 +159,39 @@ PackedTextures pack_textures(const Scene& scene) {
   return p;
 }
 
-void pack_material_textures(const Scene& scene, const MaterialDesc& d, MaterialGpu* g,
+void TextureRanges::get(uint32_t texture, uint32_t channel, float* lo, float* hi) {
+  auto found = cache_.find(texture);
+  if (found == cache_.end()) {
+    const TextureDesc& t = scene_.textures[texture];
+    Range r;
+    for (int k = 0; k < 5; ++k) {
+      r.lo[k] = std::numeric_limits<float>::max();
+      r.hi[k] = -std::numeric_limits<float>::max();
+    }
+    auto visit = [&](const float* c) {
+      const float v[5] = {c[0], c[1], c[2], c[3], 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]};
+      for (int k = 0; k < 5; ++k) {
+        r.lo[k] = std::min(r.lo[k], v[k]);
+        r.hi[k] = std::max(r.hi[k], v[k]);
+      }
+    };
+    if (t.type == TextureDesc::Type::Image) {
+      for (size_t i = 0; i + 3 < t.texels.size(); i += 4) visit(&t.texels[i]);
+    } else {
+      const float c1[4] = {t.color1.x, t.color1.y, t.color1.z, 1.0f}, c2[4] = {t.color2.x, t.color2.y, t.color2.z, 1.0f};
+      visit(c1);
+      visit(c2);
+    }
+    for (int k = 0; k < 5; ++k)
+      if (r.lo[k] > r.hi[k]) r.lo[k] = r.hi[k] = 0.0f;
+    found = cache_.emplace(texture, r).first;
+  }
+  const uint32_t k = channel < 4 ? channel : 4;
+  *lo = found->second.lo[k];
+  *hi = found->second.hi[k];
+}
+
+void pack_material_textures(const Scene& scene, const MaterialDesc& d, TextureRanges& ranges, MaterialGpu* g,
                             std::vector<TexBindingGpu>* bindings) {
   g->tex_first = uint32_t(bindings->size());
   g->tex_count = 0;
@@ -170,44 +202,6 @@ void pack_material_textures(const Scene& scene, const MaterialDesc& d, MaterialG
                      (d.reflection.disable_bump ? 1u << AW_LID_REFLECTION : 0u) |
                      (d.reflection2.disable_bump ? 1u << AW_LID_REFLECTION2 : 0u) |
                      (d.refraction.disable_bump ? 1u << AW_LID_REFRACTION : 0u);
-  // The texture's range of values per channel (R, G, B, A, luminance), for the constants that
-  // decide the features: all five in one pass over the texels (a 16384 x 16384 image has 4 GiB
-  // of them), once per texture the material reads.
-  struct Range {
-    float lo[5], hi[5];
-  };
-  std::map<uint32_t, Range> ranges;
-  auto channel_range = [&](uint32_t texture, uint32_t ch, float* lo, float* hi) {
-    auto found = ranges.find(texture);
-    if (found == ranges.end()) {
-      const TextureDesc& t = scene.textures[texture];
-      Range r;
-      for (int k = 0; k < 5; ++k) {
-        r.lo[k] = std::numeric_limits<float>::max();
-        r.hi[k] = -std::numeric_limits<float>::max();
-      }
-      auto visit = [&](const float* c) {
-        const float v[5] = {c[0], c[1], c[2], c[3], 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]};
-        for (int k = 0; k < 5; ++k) {
-          r.lo[k] = std::min(r.lo[k], v[k]);
-          r.hi[k] = std::max(r.hi[k], v[k]);
-        }
-      };
-      if (t.type == TextureDesc::Type::Image) {
-        for (size_t i = 0; i + 3 < t.texels.size(); i += 4) visit(&t.texels[i]);
-      } else {
-        const float c1[4] = {t.color1.x, t.color1.y, t.color1.z, 1.0f}, c2[4] = {t.color2.x, t.color2.y, t.color2.z, 1.0f};
-        visit(c1);
-        visit(c2);
-      }
-      for (int k = 0; k < 5; ++k)
-        if (r.lo[k] > r.hi[k]) r.lo[k] = r.hi[k] = 0.0f;
-      found = ranges.emplace(texture, r).first;
-    }
-    const uint32_t k = ch < 4 ? ch : 4;
-    *lo = found->second.lo[k];
-    *hi = found->second.hi[k];
-  };
   for (const auto& [key, ref] : d.textures) {
     TexBindingGpu b;
     std::memset(&b, 0, sizeof(b));
@@ -241,7 +235,7 @@ void pack_material_textures(const Scene& scene, const MaterialDesc& d, MaterialG
     for (uint32_t k = 0; k < in->count; ++k) {
       const uint32_t ch = b.channel == AW_TEXCH_RGB ? k : b.channel;
       float lo = 0.0f, hi = 0.0f;
-      channel_range(ref.texture, ch, &lo, &hi);
+      ranges.get(ref.texture, ch, &lo, &hi);
       const float a = std::clamp(b.offset + b.multiplier * lo, b.lo, b.hi);
       const float z = std::clamp(b.offset + b.multiplier * hi, b.lo, b.hi);
       w[in->word + k] = std::fabs(z) >= std::fabs(a) ? z : a;

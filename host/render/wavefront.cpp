@@ -140,8 +140,7 @@ class Wavefront {
         }
         if (jobs_done >= stop_at) break;
         if (opts_.checkpoint && opts_.checkpoint_seconds > 0.0 && since(last_checkpoint) >= opts_.checkpoint_seconds) {
-          snapshot();
-          res_.update_sums();
+          read_film();
           opts_.checkpoint(res_);
           ++st_.checkpoints;
           progress.set_note("checkpoint " + std::to_string(st_.checkpoints) + " written");
@@ -204,8 +203,7 @@ class Wavefront {
     std::string what = error_text(e);
     st_.device_error = what;
     st_.interrupted = true;
-    std::string kept;
-    bool answered = false;
+    std::string kept, silent;  // how the film was had; why the device gave nothing
     try {
       std::vector<uint64_t> acc(res_.acc.size()), aov(res_.aov_acc.size());
       std::vector<uint32_t> count(res_.count.size());
@@ -214,24 +212,28 @@ class Wavefront {
       res_.count.swap(count);
       res_.aov_acc.swap(aov);
       film_kept_ = true;
-      answered = true;
       kept = "read back after the error";
     } catch (const cl::Error& again) {
-      kept = "from the last snapshot, " + std::to_string(int(std::lround(since(last_snapshot_)))) +
-             " s before the error: the device no longer answers (" + again.what() + ": " + cl_error_name(again.err()) + ")";
+      silent = std::string("the device no longer answers (") + again.what() + ": " + cl_error_name(again.err()) + ")";
+      kept = "from the last snapshot, " + std::to_string(int(std::lround(since(last_snapshot_)))) + " s before the error: " + silent;
     }
     st_.total_seconds = since(t_start_);
     if (!film_kept_) throw RenderDeviceError(what + "; no film could be kept (the device failed while its film was read)", nullptr);
-    uint64_t held = 0;
-    for (uint32_t c : res_.count) held += c;
-    if (held == 0 && !answered && st_.film_snapshots == 0)
-      throw RenderDeviceError(what + "; no film was kept: no snapshot had been taken yet and " + kept.substr(kept.find("the device")),
-                              nullptr);
+    const uint64_t held = film_held();
+    if (held == 0 && !silent.empty() && st_.film_snapshots == 0)
+      throw RenderDeviceError(what + "; no film was kept: no snapshot had been taken yet and " + silent, nullptr);
     if (held == 0) throw RenderDeviceError(what + "; no sample had been completed (" + kept + ")", nullptr);
     res_.update_sums();
     st_.samples = held - st_.resumed_samples;
     auto partial = std::make_shared<RenderResult>(std::move(res_));
     throw RenderDeviceError(what + "; the film keeps " + std::to_string(held) + " samples, " + kept, partial);
+  }
+
+  // The samples res_'s film holds.
+  uint64_t film_held() const {
+    uint64_t held = 0;
+    for (uint32_t c : res_.count) held += c;
+    return held;
   }
 
   // ARCHWAVE_FAULT, for the tests of the above: "launch:N" makes the Nth stage launch fail,
@@ -539,9 +541,7 @@ class Wavefront {
   void read_film() {
     snapshot();
     res_.update_sums();
-    uint64_t held = 0;
-    for (uint32_t c : res_.count) held += c;
-    st_.samples = held - st_.resumed_samples;
+    st_.samples = film_held() - st_.resumed_samples;
   }
 
   void read_back() {
