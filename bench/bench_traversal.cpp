@@ -204,7 +204,8 @@ std::vector<RayIn> diffuse_rays(const aw::TriangleSoup& s, const std::vector<Ray
     make_frame(n, &tu, &tv);
     float2 xi = make_float2(u01(rng), u01(rng));
     RayIn r;
-    r.org = offset_ray_origin(p, n);
+    // The kernels' offset (common/ray.h): the hit point's error bound along n.
+    r.org = offset_ray_origin(p, n, triangle_point_error(p, a, b, c, 1.0f - h.u - h.v, h.u, h.v, float3(0.0f), n));
     r.dir = glm::normalize(frame_to_world(sample_cosine_hemisphere(xi), tu, tv, n));
     r.t_min = 0.0f;
     r.t_max = std::numeric_limits<float>::infinity();

@@ -100,6 +100,7 @@ using std::ceil;
 using std::isfinite;
 using std::isnan;
 using std::copysign;
+using std::fma;
 using std::max;
 using std::min;
 

@@ -4,22 +4,69 @@
 
 #include "common/compat.h"
 
-// Offsets a surface point along the geometric normal by a few ULPs so the next ray cannot
-// re-hit the surface it leaves: Wächter & Binder 2019, "A Fast and Robust Method for
-// Avoiding Self-Intersection", Ray Tracing Gems, Ch. 6, Listing 6-1. Integer ULP steps scale
-// with the magnitude of the coordinate; near the origin (where ULPs vanish) a small fixed
-// float offset is used instead. `n` must point to the side the new ray leaves towards.
-AW_FN float offset_one(float p, float n) {
-  const float origin = 1.0f / 32.0f;
-  const float float_scale = 1.0f / 65536.0f;
-  const float int_scale = 256.0f;
-  int of_i = (int)(int_scale * n);
-  float p_i = as_float_i(as_int(p) + ((p < 0.0f) ? -of_i : of_i));
-  return fabs(p) < origin ? p + float_scale * n : p_i;
+// gamma(n) = n u / (1 - n u), u = 2^-24 the unit roundoff of round-to-nearest floats: the
+// bound on the relative error of n chained roundings (Higham 2002, "Accuracy and Stability
+// of Numerical Algorithms", Sec. 3.1, Lemma 3.1; Pharr, Jakob & Humphreys, pbrt-v4, Sec. 6.8.1).
+#define AW_ROUNDOFF 5.96046448e-8f
+AW_FN float aw_gamma(float n) { return n * AW_ROUNDOFF / (1.0f - n * AW_ROUNDOFF); }
+
+// The intersectors' own share of a ray origin's offset, in units of the roundoff times the
+// hit primitive's size (the largest distance from the hit point to one of its vertices, a
+// sphere's radius). A ray leaving a surface must find its own primitive behind it; the
+// distance the intersectors compute carries a rounding error of a few units of roundoff times
+// the distance from the origin to the primitive's vertices (bvh/intersect_triangle.h: the
+// plane through a corner; intersect_sphere.h: |f|^2 - r^2), which the position's own error
+// bound (below) does not contain: pbrt-v4 covers it with a second guard in the triangle test
+// (Sec. 6.8.4, deltaT), which Embree (the scalar path's intersector) has not. Measured on
+// BvhVsEmbree.RaysLeavingASurfaceNeverHitIt: 4 units already leave no self-hit on well-shaped
+// triangles and spheres for Embree and the kernels alike; 64 (3.8e-6 of the primitive's size)
+// also keeps Embree's re-hits of slivers, whose plane its test tilts, at 0-20% of the rays
+// leaving them, against 22-37% with 4 (docs/numerics.md#ray-origins).
+#define AW_OFFSET_EXTENT 64.0f
+
+// One float further from `x` in the direction of the sign of `s` (0: x itself); from zero, the
+// smallest normal float, not a denormal, which devices may flush back to zero.
+AW_FN float aw_float_step(float x, float s) {
+  if (s == 0.0f) return x;
+  if (x == 0.0f) return copysign(1.17549435e-38f, s);
+  int up = (x > 0.0f) == (s > 0.0f);  // away from zero
+  return as_float_i(as_int(x) + (up ? 1 : -1));
 }
 
-AW_FN float3 offset_ray_origin(float3 p, float3 n) {
-  return make_float3(offset_one(p.x, n.x), offset_one(p.y, n.y), offset_one(p.z, n.z));
+// The origin of a ray that leaves a surface point p along the side `n` (a unit normal facing
+// where the ray goes) points to, `err` being the bound on the distance from p, as computed, to
+// the true surface along n, plus the intersectors' share (AW_OFFSET_EXTENT): p moved by err
+// along n, and then one float further in every component n moves, so that the rounding of
+// that addition cannot bring it back (pbrt-v4 Sec. 6.8.6, OffsetRayOrigin). The offset scales
+// with the scene: with its coordinates' magnitude through the position's error, with its size
+// through the primitive's (Extremes.SmallOrDistantScenesRenderTheSameImage). It replaces
+// Wächter & Binder's fixed-scale integer offsets (Ray Tracing Gems ch. 6), whose 1/65536 near
+// the origin was 30% of a sphere's radius in a scene scaled by 1e-4, and whose 256 ulps were 2
+// units at 1e5 from the origin.
+AW_FN float3 offset_ray_origin(float3 p, float3 n, float err) {
+  float3 o = p + n * err;
+  return make_float3(aw_float_step(o.x, n.x), aw_float_step(o.y, n.y), aw_float_step(o.z, n.z));
+}
+
+// The bound `err` for offset_ray_origin at a triangle hit p = b0 p0 + b1 p1 + b2 p2 (with the
+// barycentrics' own rounding: pbrt-v4 Sec. 6.8.5, gamma(7) times sum |b_i p_i|), `vert_err` the
+// bound on each vertex's own error (an instance's transform; 0 for world geometry, whose
+// vertices are the very floats the intersector used), projected on the unit normal ng; plus
+// AW_OFFSET_EXTENT roundoffs of the triangle's size seen from p.
+AW_FN float triangle_point_error(float3 p, float3 p0, float3 p1, float3 p2, float b0, float b1, float b2,
+                                 float3 vert_err, float3 ng) {
+  float3 s = fabs(b0 * p0) + fabs(b1 * p1) + fabs(b2 * p2);
+  float3 e = aw_gamma(2.0f) * fabs(p0) + aw_gamma(3.0f) * s + (1.0f + aw_gamma(3.0f)) * vert_err;
+  float3 d0 = p0 - p, d1 = p1 - p, d2 = p2 - p;
+  float ext2 = fmax(fmax(dot(d0, d0), dot(d1, d1)), dot(d2, d2));
+  return dot(fabs(ng), e) + AW_OFFSET_EXTENT * AW_ROUNDOFF * sqrt(ext2);
+}
+
+// The same at an analytic sphere's hit p = c + w r (w a unit vector computed with a few
+// roundings, then one rounding of the sum), `vert_err` the centre's own error.
+AW_FN float sphere_point_error(float3 p, float3 w, float r, float3 vert_err, float3 ng) {
+  float3 e = aw_gamma(1.0f) * fabs(p) + aw_gamma(5.0f) * fabs(w * r) + (1.0f + aw_gamma(1.0f)) * vert_err;
+  return dot(fabs(ng), e) + AW_OFFSET_EXTENT * AW_ROUNDOFF * r;
 }
 
 #endif

@@ -60,7 +60,7 @@ AW_FN int ambient_occlusion(PathRef ps, SceneRef sc, const RenderParams* rp) {
   make_frame(axis, &t, &b);
   float s_max, c_max;
   sincos_turn(0.25f * clamp(m->ao_spread, 0.0f, 1.0f), &s_max, &c_max);  // angle spread * pi / 2
-  float3 o = offset_ray_origin(p, ng);
+  float3 o = offset_ray_origin(p, ng, PS_F(ps, sp_err));
   uint bounce = PS_U(ps, bounce), sample = PS_U(ps, sample), pixel = PS_U(ps, pixel);
   uint n = bounce == 0u ? split_count(m->ao_samples, rp->ao_split_spp) : 1u;
   float vis = 0.0f;

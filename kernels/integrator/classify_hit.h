@@ -45,6 +45,24 @@ AW_FN VertexData vertex_world(SceneRef sc, uint inst, uint index) {
   return v;
 }
 
+// The bound on the error of vertex_world's positions for the vertices of one triangle (or a
+// sphere's centre), each component of o2w p rounded three times (pbrt-v4 Sec. 6.8.3): gamma(3)
+// (|m_i0 x| + |m_i1 y| + |m_i2 z| + |m_i3|), taken at the largest magnitude of each object-space
+// coordinate among them. Zero for world geometry, whose vertices are the intersector's own.
+AW_FN float3 instance_vertex_error(SceneRef sc, uint inst, const AW_GLOBAL TriangleInfo* tri, int sphere) {
+  if (!(AW_FEAT_INSTANCE && inst != AW_NONE)) return make_float3(0.0f, 0.0f, 0.0f);
+  float3 a = make_float3(0.0f, 0.0f, 0.0f);
+  for (int k = 0; k < (sphere ? 1 : 3); ++k) {
+    const AW_GLOBAL VertexData* v = &sc.verts[tri->v[k]];
+    a = fmax(a, fabs(make_float3(v->p[0], v->p[1], v->p[2])));
+  }
+  const AW_GLOBAL float* m = sc.insts[inst].o2w;
+  float g = aw_gamma(3.0f);
+  return make_float3(g * (fabs(m[0]) * a.x + fabs(m[1]) * a.y + fabs(m[2]) * a.z + fabs(m[3])),
+                     g * (fabs(m[4]) * a.x + fabs(m[5]) * a.y + fabs(m[6]) * a.z + fabs(m[7])),
+                     g * (fabs(m[8]) * a.x + fabs(m[9]) * a.y + fabs(m[10]) * a.z + fabs(m[11])));
+}
+
 AW_FN float3 vertex_position(const VertexData* v) { return make_float3(v->p[0], v->p[1], v->p[2]); }
 AW_FN float3 vertex_normal(const VertexData* v) { return make_float3(v->n[0], v->n[1], v->n[2]); }
 
@@ -100,12 +118,13 @@ typedef struct {
   int front;      // the ray arrived on the outside of the surface
   int sphere;     // an analytic sphere (p0..p2 and the barycentrics unused): its UV is uv
   float2 uv;
+  float err;      // how far rays leaving p are offset along ng (common/ray.h, offset_ray_origin)
 } HitPoint;
 
 // The shading point of an analytic sphere hit (bvh/intersect_sphere.h): the point projected
 // onto the sphere, normals along the radius (the exact surface: the shading normal is the
 // geometric one), its UV by the sphere's parametrisation.
-AW_FN HitPoint classify_sphere_point(PathRef ps, const VertexData* c, float3 dir) {
+AW_FN HitPoint classify_sphere_point(PathRef ps, const VertexData* c, float3 dir, float3 vert_err) {
   HitPoint h;
   float3 center = make_float3(c->p[0], c->p[1], c->p[2]);
   float3 w = ps_ray_origin(ps) + dir * PS_F(ps, hit_t) - center;
@@ -119,6 +138,7 @@ AW_FN HitPoint classify_sphere_point(PathRef ps, const VertexData* c, float3 dir
   h.uv = sphere_uv(w, make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]));
   h.front = dot(w, dir) < 0.0f;
   h.n = h.ng = h.front ? w : -w;
+  h.err = sphere_point_error(h.p, w, c->p[3], vert_err, h.ng);
   return h;
 }
 
@@ -265,7 +285,7 @@ AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu*
 // `mirrored`: the triangle belongs to an instance whose transform mirrors, which reverses the
 // winding in world space (the loader swaps two corners of a mirrored mesh it flattens instead).
 AW_FN HitPoint classify_hit_point(PathRef ps, const VertexData* v0, const VertexData* v1,
-                                  const VertexData* v2, float3 dir, int mirrored) {
+                                  const VertexData* v2, float3 dir, int mirrored, float3 vert_err) {
   HitPoint h;
   h.b1 = PS_F(ps, hit_u);
   h.b2 = PS_F(ps, hit_v);
@@ -305,6 +325,7 @@ AW_FN HitPoint classify_hit_point(PathRef ps, const VertexData* v0, const Vertex
   if (dot(nshade, ng) < 0.0f || dot(nshade, dir) >= 0.0f) nshade = ng;
   h.n = nshade;
   h.ng = ng;
+  h.err = triangle_point_error(h.p, h.p0, h.p1, h.p2, h.b0, h.b1, h.b2, vert_err, ng);
   h.sphere = 0;
   h.uv = make_float2(0.0f, 0.0f);
   return h;
@@ -318,6 +339,7 @@ AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGp
   PS_F(ps, sp_px) = h.p.x; PS_F(ps, sp_py) = h.p.y; PS_F(ps, sp_pz) = h.p.z;
   PS_F(ps, sp_nx) = h.n.x; PS_F(ps, sp_ny) = h.n.y; PS_F(ps, sp_nz) = h.n.z;
   PS_F(ps, sp_gx) = h.ng.x; PS_F(ps, sp_gy) = h.ng.y; PS_F(ps, sp_gz) = h.ng.z;
+  PS_F(ps, sp_err) = h.err;
   PS_U(ps, material) = material;
   if (h.front) PS_U(ps, flags) |= AW_PATH_FRONT;
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
@@ -415,7 +437,9 @@ AW_FN int classify_hit_body(PathRef ps, SceneRef sc, const RenderParams* rp) {
   const VertexData* v0 = &w0;
   const VertexData* v1 = &w1;
   const VertexData* v2 = &w2;
-  HitPoint h = sphere ? classify_sphere_point(ps, v0, dir) : classify_hit_point(ps, v0, v1, v2, dir, mirrored);
+  float3 vert_err = instance_vertex_error(sc, inst, tri, sphere);
+  HitPoint h = sphere ? classify_sphere_point(ps, v0, dir, vert_err)
+                      : classify_hit_point(ps, v0, v1, v2, dir, mirrored, vert_err);
 
   // 3. The feature guard. The host derived the features from this very scene, so this cannot
   // happen; if it does, it is counted and the host refuses the image rather than render it wrong.

@@ -24,6 +24,9 @@ AW_STATE_F(hit_t) AW_STATE_F(hit_u) AW_STATE_F(hit_v)
 AW_STATE_F(sp_px) AW_STATE_F(sp_py) AW_STATE_F(sp_pz)
 AW_STATE_F(sp_nx) AW_STATE_F(sp_ny) AW_STATE_F(sp_nz)
 AW_STATE_F(sp_gx) AW_STATE_F(sp_gy) AW_STATE_F(sp_gz)
+/* How far rays leaving the shading point start from it along the geometric normal: the
+ * bound on its rounding error (common/ray.h, offset_ray_origin). */
+AW_STATE_F(sp_err)
 /* Tangent (for anisotropy), orthogonal to the shading normal. */
 AW_STATE_F(sp_tx) AW_STATE_F(sp_ty) AW_STATE_F(sp_tz)
 /* Textures: the shading point's UV, the path's footprint there in UV units
