@@ -89,7 +89,6 @@ static int parse_command_line(CLI::App& app, int argc, char** argv) {
   return -1;
 }
 
-// Inside a catch: prints the exception's message after `prog` and returns its exit code.
 // The EXR and its PNG preview beside it. The EXR already holds radiance x exposure; the preview
 // adds only the sRGB curve.
 static void write_image(const std::string& output, const aw::Image& img) {
@@ -97,6 +96,7 @@ static void write_image(const std::string& output, const aw::Image& img) {
   aw::write_png_preview(aw::png_path_for(output), img, 1.0f);
 }
 
+// Inside a catch: prints the exception's message after `prog` and returns its exit code.
 static int exit_code_for_exception(const char* prog) {
   try {
     throw;

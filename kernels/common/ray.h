@@ -48,11 +48,14 @@ AW_FN float3 offset_ray_origin(float3 p, float3 n, float err) {
   return make_float3(aw_float_step(o.x, n.x), aw_float_step(o.y, n.y), aw_float_step(o.z, n.z));
 }
 
-// The bound `err` for offset_ray_origin at a triangle hit p = b0 p0 + b1 p1 + b2 p2 (with the
-// barycentrics' own rounding: pbrt-v4 Sec. 6.8.5, gamma(7) times sum |b_i p_i|), `vert_err` the
-// bound on each vertex's own error (an instance's transform; 0 for world geometry, whose
-// vertices are the very floats the intersector used), projected on the unit normal ng; plus
-// AW_OFFSET_EXTENT roundoffs of the triangle's size seen from p.
+// The bound `err` for offset_ray_origin at a triangle hit p = b0 p0 + b1 p1 + b2 p2 as
+// classify_hit_point computes it, b0 = 1 - b1 - b2 in floats (after pbrt-v4 Sec. 6.8.5, whose
+// gamma(7) sum |b_i p_i| also covers barycentrics it computes itself): b0's two roundings move p
+// by at most gamma(2) |p0| off the plane the barycentrics span, the three products and two sums
+// by gamma(3) sum |b_i p_i|; `vert_err` the bound on each vertex's own error (an instance's
+// transform; 0 for world geometry, whose vertices are the very floats the intersector used);
+// all projected on the unit normal ng, plus AW_OFFSET_EXTENT roundoffs of the triangle's size
+// seen from p.
 AW_FN float triangle_point_error(float3 p, float3 p0, float3 p1, float3 p2, float b0, float b1, float b2,
                                  float3 vert_err, float3 ng) {
   float3 s = fabs(b0 * p0) + fabs(b1 * p1) + fabs(b2 * p2);
