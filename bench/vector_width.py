@@ -4,9 +4,9 @@ runtime chooses, and what forcing a width costs, measured per stage.
 
 Intel's runtime vectorises a kernel across work-items when its cost model expects a gain; the
 attribute intel_vec_len_hint(N) (cl_intel_vec_len_hint) overrides that choice. This script
-copies kernels/ into a temporary folder once per variant, puts the hint on the kernels that
-AW_STAGE_KERNEL declares (the shading stages; the ray and bookkeeping stages are already
-AW_SCALAR_KERNEL, integrator/kernels.cl says why), and renders the same scene with each copy
+copies kernels/ into a temporary folder once per variant, sets the attribute of the kernels that
+AW_STAGE_KERNEL declares (the shading stages: as shipped they are built scalar like every other
+stage, integrator/kernels.cl says why; "runtime's choice" removes the attribute), and renders the same scene with each copy
 (`archwave --kernels DIR`), the variants interleaved run by run so that the machine's drift
 falls on all of them alike. It prints, per variant, what the runtime's build log says of each
 shading kernel (its width, or "scalar") and its gathers and scatters, then the median seconds
@@ -29,8 +29,9 @@ import sys
 import tempfile
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-# The declaration every shading kernel goes through (integrator/kernels.cl).
-STAGE_DECL = "  __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name("
+# The attribute every shading kernel's declaration carries (integrator/kernels.cl): scalar on
+# Intel's runtime as shipped.
+SHADE_ATTR = "#define AW_SHADE_KERNEL_ATTR AW_SCALAR_KERNEL"
 LOG_KERNEL = re.compile(r'Kernel "(kernel_\w+)" was (successfully vectorized \((\d+)\)|not vectorized)')
 LOG_GATHERS = re.compile(r"Kernel was (\d+)-way vectorized(\d+) gathers?(\d+) scatters?")
 
@@ -41,20 +42,18 @@ def die(msg):
 
 
 def make_variant(root, width):
-    """kernels/ copied under root, AW_STAGE_KERNEL carrying intel_vec_len_hint(width); width
-    None leaves the copy as it is (the runtime's own choice)."""
+    """kernels/ copied under root, the shading kernels carrying intel_vec_len_hint(width); width
+    None gives them no attribute (the runtime's own choice; as shipped they carry width 1)."""
     dst = os.path.join(root, f"w{width or 'runtime'}")
     shutil.copytree(os.path.join(REPO, "kernels"), dst)
-    if width is not None:
-        path = os.path.join(dst, "integrator", "kernels.cl")
-        with open(path) as f:
-            src = f.read()
-        if src.count(STAGE_DECL) != 1:
-            die(f"{path}: AW_STAGE_KERNEL's declaration changed; update STAGE_DECL in this script")
-        src = src.replace(STAGE_DECL, STAGE_DECL.replace(
-            "__kernel ", f"__kernel __attribute__((intel_vec_len_hint({width}))) "))
-        with open(path, "w") as f:
-            f.write(src)
+    path = os.path.join(dst, "integrator", "kernels.cl")
+    with open(path) as f:
+        src = f.read()
+    if src.count(SHADE_ATTR) != 1:
+        die(f"{path}: AW_SHADE_KERNEL_ATTR's definition changed; update SHADE_ATTR in this script")
+    attr = "" if width is None else f"__attribute__((intel_vec_len_hint({width})))"
+    with open(path, "w") as f:
+        f.write(src.replace(SHADE_ATTR, f"#define AW_SHADE_KERNEL_ATTR {attr}"))
     return dst
 
 
@@ -125,7 +124,7 @@ def main():
         for _ in range(args.runs):
             for w in widths:
                 runs[w].append(render(args, dirs[w], env, tmp))
-    label = {w: ("runtime's choice" if w is None else f"forced {w}") for w in widths}
+    label = {w: ("runtime's choice" if w is None else f"forced {w}" + (" (as shipped)" if w == 1 else "")) for w in widths}
     first = runs[widths[0]][0]
     print(f"device: {first['device']}; scene {os.path.relpath(args.scene, REPO)}, "
           f"{first['width']}x{first['height']}, {args.spp} spp, {args.runs} interleaved runs\n")

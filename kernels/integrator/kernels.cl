@@ -33,23 +33,27 @@
 // Every stage kernel: the same attributes and the same parameters (stage_args.h).
 #define AW_STAGE_PARAM_VALUE(type, name) , const type name
 #define AW_STAGE_PARAM_BUFFER(type, name) , __global type* name
-#define AW_STAGE_KERNEL(name)                                       \
-  __kernel __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
-      const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
 
-// Stages that run faster one work-item at a time than vectorised across work-items, on a
-// compiler that vectorises (Intel's CPU runtime: AW_SCALAR_KERNEL, common/compat.h; nothing
-// changes on PoCL or a GPU). Measured on Intel's runtime 2026.2,
-// AVX2 AMD EPYC, 256x256 x 16 spp, two interleaved runs (docs/performance.md "Per-stage
-// vectorisation on Intel's runtime"): traversal vectorised gathers 16 rays' nodes per lane and
-// runs at 0.4x its scalar speed (closest 3.5-3.9 vs 8.1-9.0 M rays/s, shadow 3.2-3.9 vs
-// 11.6-12.8 on the Cornell box), so the ray stages and the bookkeeping stages are scalar;
-// the shading stages stay vectorised (equal here, ahead where the vector units are wider).
-// Whole render: Cornell 0.32-0.36 -> 0.54-0.55 Msamples/s, every-lobe scene 0.43-0.49 -> 0.69-0.71.
+// Every stage runs one work-item at a time on a compiler that would vectorise across
+// work-items (Intel's CPU runtime: AW_SCALAR_KERNEL, common/compat.h; nothing changes on PoCL or
+// a GPU). Measured on Intel's runtime 2026.2 (docs/performance.md, "Per-stage vectorisation on
+// Intel's runtime" and "Vector width on an AVX-512 Xeon"):
+// - the ray stages: vectorised traversal gathers 8-16 rays' nodes per lane and ran at 0.4x its
+//   scalar speed (AVX2 EPYC, Cornell box: closest 3.5-3.9 vs 8.1-9.0 M rays/s, shadow 3.2-3.9
+//   vs 11.6-12.8); the bookkeeping stages gained a little from scalar code too;
+// - the shading stages: level vectorised and scalar on the AVX2 EPYC (-9% and +8% on two
+//   scenes); on an AVX-512 Xeon the runtime's own cost model keeps them scalar, and forced to 8
+//   or 16 lanes they took 1.7-5x their scalar time (bench/vector_width.py). Vectorised, the
+//   refraction sampler is also miscompiled (docs/devices.md#known-problems-of-intels-runtime),
+//   so scalar shading costs nothing measured and keeps renders clear of it.
+// bench/vector_width.py replaces AW_SHADE_KERNEL_ATTR to measure other widths.
+#define AW_SHADE_KERNEL_ATTR AW_SCALAR_KERNEL
+#define AW_STAGE_KERNEL(name)                                                             \
+  __kernel AW_SHADE_KERNEL_ATTR __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
+      const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
 #define AW_STAGE_KERNEL_SCALAR(name)                                                  \
   __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
       const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
-
 
 // The path in slot `slot` and the scene, from the stage arguments.
 #define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, aov_state, rp.pool_size, (slot))
