@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -177,6 +178,32 @@ bool jpeg_huffman_tables_fit(const unsigned char* b, size_t n, std::string* why)
   return true;
 }
 
+// stb_image 2.27 (Debian 12) grows its buffer for a PNG's image data (IDAT chunks) to the
+// length a chunk declares, up to 2^30 bytes, and doubles it past that, before it reads the
+// chunk's bytes: a 246-byte PNG whose last IDAT declared 2^30 bytes made it allocate 2 GiB
+// (found by tests/fuzz, fuzz_image, 2026-12-03). The chunks are walked here by their lengths
+// (PNG specification, ISO/IEC 15948 §5.3: length, type, data, CRC) as stb_image walks them, and
+// an IDAT chunk that declares more bytes than the file has left is refused before stb_image
+// sees the file. Other chunks it skips without allocating; anything else malformed is left to
+// stb_image to refuse.
+bool png_chunks_fit(const unsigned char* b, size_t n, std::string* why) {
+  static const unsigned char kPngMagic[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  if (n < 8 || std::memcmp(b, kPngMagic, 8) != 0) return true;  // not a PNG
+  size_t i = 8;
+  while (i + 8 <= n) {
+    const uint64_t len = (uint64_t(b[i]) << 24) | (uint64_t(b[i + 1]) << 16) | (uint64_t(b[i + 2]) << 8) | b[i + 3];
+    const bool idat = std::memcmp(b + i + 4, "IDAT", 4) == 0;
+    if (idat && len > n - (i + 8)) {
+      *why = "a corrupt PNG: the IDAT chunk at byte " + std::to_string(i) + " declares " + std::to_string(len) +
+             " bytes, the file has " + std::to_string(n - (i + 8)) + " left";
+      return false;
+    }
+    if (std::memcmp(b + i + 4, "IEND", 4) == 0) break;
+    i += 12 + size_t(len);  // len < 2^32: no overflow in size_t
+  }
+  return true;
+}
+
 }  // namespace
 
 bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* t, std::string* error) {
@@ -187,7 +214,7 @@ bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* 
     return false;
   }
   std::string why;
-  if (!jpeg_huffman_tables_fit(bytes, size, &why)) {
+  if (!jpeg_huffman_tables_fit(bytes, size, &why) || !png_chunks_fit(bytes, size, &why)) {
     *error = "cannot decode the image (" + why + ")";
     return false;
   }
