@@ -321,7 +321,7 @@ TEST(Cli, TerminateKeepsWhatWasRenderedLikeInterrupt) { check_interrupt(SIGTERM,
 namespace {
 
 // Memory budgets (docs/cli.md, --max-memory): a scene whose render would not fit is refused
-// with the sizes before its geometry is generated (exit 3, the object's position named), fast,
+// with the sizes before its geometry is generated (exit 3, the object's position named),
 // whatever its size: 200,000 default spheres (3.2 G triangles) are refused at the first one
 // that crosses the limit, not tessellated (spheres with "segments": analytic spheres are one
 // primitive each, tests/render/test_spheres.cpp). A bad size is a usage error.
@@ -338,7 +338,11 @@ TEST(Cli, MaxMemoryRefusesAScenePastTheLimitBeforeGeneratingIt) {
   EXPECT_NE(r.err.find("objects["), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("triangles here"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("--max-memory 200M"), std::string::npos) << r.err;
-  EXPECT_LT(secs, 20.0) << "the refusal must come before the geometry is generated";
+  // No wall-time bound: parsing the 20 MB scene alone took 20.3 s under AddressSanitizer on a
+  // loaded CI machine. That the refusal comes before the geometry is generated is what the
+  // object it names proves (objects[12] below: the 13th of 200,000, none after it built); had
+  // all 3.2 G triangles been generated, the run would not end within ctest's timeout.
+  std::printf("[ info     ] refused in %.2f s\n", secs);
   EXPECT_FALSE(fs::exists(scratch() + "/never.exr"));
   // The film (640 x 480 x 128 B) and the path pool (64 MiB) take 106.4 MB of the 209.7 MB; 12
   // spheres of 16,128 triangles x 500 B fit in the rest, the 13th is refused.
