@@ -6,8 +6,8 @@ Intel's runtime vectorises a kernel across work-items when its cost model expect
 attribute intel_vec_len_hint(N) (cl_intel_vec_len_hint) overrides that choice. This script
 copies kernels/ into a temporary folder once per variant, sets the attribute of the kernels that
 AW_STAGE_KERNEL declares (the shading stages: as shipped they are built scalar like every other
-stage, integrator/kernels.cl says why; "runtime's choice" removes the attribute), and renders the same scene with each copy
-(`archwave --kernels DIR`), the variants interleaved run by run so that the machine's drift
+stage, integrator/kernels.cl says why; "runtime's choice" removes the attribute), and renders
+the same scene with each copy (`archwave --kernels DIR`), the variants interleaved run by run so that the machine's drift
 falls on all of them alike. It prints, per variant, what the runtime's build log says of each
 shading kernel (its width, or "scalar") and its gathers and scatters, then the median seconds
 of every stage and each run's samples per second.
@@ -65,28 +65,22 @@ def env_for(build_dir):
 
 
 def build_log(args, kdir, env, tmp):
-    """What the runtime's compiler did with each shading kernel: {kernel: (width or 0, gathers,
-    scatters)}. A 1-spp render with the build log on and the binary cache off."""
+    """What the runtime's compiler did with the shading kernels: {kernel: width, 0 = scalar}, and
+    (width, gathers, scatters) of its largest vectorised candidate or None. A 1-spp render with
+    the build log on and the binary cache off."""
     e = dict(env, ARCHWAVE_BUILD_LOG="1", ARCHWAVE_KERNEL_CACHE="0")
     p = subprocess.run([args.archwave, args.scene, "--kernels", kdir, "--device", args.device, "--spp", "1",
                         "-o", os.path.join(tmp, "log.exr"), "-q"], env=e, capture_output=True, text=True)
     if p.returncode != 0:
         die(f"building {kdir} failed (exit {p.returncode}):\n{p.stderr[-3000:]}")
     text = p.stdout + p.stderr
-    # The remarks come in kernel order, one "N-way vectorized" line per vectorised candidate;
-    # the summary lines name the kernels. Match the two by order among the vectorised ones.
+    widths = {name: int(width) if width else 0 for name, _, width in LOG_KERNEL.findall(text)
+              if name.startswith("kernel_shade_")}
+    # The remarks do not name their kernel; the largest candidate is the shading kernel of a lobe
+    # the scene uses (the others are empty bodies with two scatters).
     remarks = LOG_GATHERS.findall(text)
-    out, vi = {}, 0
-    for name, what, width in LOG_KERNEL.findall(text):
-        if not name.startswith("kernel_shade_"):
-            continue
-        out[name] = (int(width) if width else 0, None, None)
-    # Gathers/scatters of the largest vectorised candidate (the shading kernel with a lobe the
-    # scene uses; the others are empty bodies with two scatters).
-    if remarks:
-        w, g, s = max(remarks, key=lambda r: int(r[1]) + int(r[2]))
-        out["_largest"] = (int(w), int(g), int(s))
-    return out
+    largest = tuple(map(int, max(remarks, key=lambda r: int(r[1]) + int(r[2])))) if remarks else None
+    return widths, largest
 
 
 def render(args, kdir, env, tmp):
@@ -131,9 +125,8 @@ def main():
     print("| variant | shading kernels built (width; 0 = scalar) | largest candidate: width, gathers, scatters |")
     print("|---|---|---|")
     for w in widths:
-        lg = logs[w]
-        kern = ", ".join(f"{k[len('kernel_shade_'):]} {v[0]}" for k, v in sorted(lg.items()) if k != "_largest")
-        big = lg.get("_largest")
+        kernels, big = logs[w]
+        kern = ", ".join(f"{k[len('kernel_shade_'):]} {v}" for k, v in sorted(kernels.items()))
         print(f"| {label[w]} | {kern} | {'%d, %d, %d' % big if big else '-'} |")
     stages = [st["name"] for st in first["stages"]]
     print("\n| stage | " + " | ".join(f"{label[w]} (s, median)" for w in widths) + " |")

@@ -179,8 +179,8 @@ bool jpeg_huffman_tables_fit(const unsigned char* b, size_t n, std::string* why)
 }
 
 // stb_image 2.27 (Debian 12) grows its buffer for a PNG's image data (IDAT chunks) to the
-// length a chunk declares, up to 2^30 bytes, and doubles it past that, before it reads the
-// chunk's bytes: a 246-byte PNG whose last IDAT declared 2^30 bytes made it allocate 2 GiB
+// length a chunk declares, doubling, before it reads the chunk's bytes: a 246-byte PNG whose
+// last IDAT declared 1,187,646,681 bytes made it allocate 2 GiB
 // (found by tests/fuzz, fuzz_image, 2026-12-03). The chunks are walked here by their lengths
 // (PNG specification, ISO/IEC 15948 §5.3: length, type, data, CRC) as stb_image walks them, and
 // an IDAT chunk that declares more bytes than the file has left is refused before stb_image

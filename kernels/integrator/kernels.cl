@@ -48,12 +48,11 @@
 //   so scalar shading costs nothing measured and keeps renders clear of it.
 // bench/vector_width.py replaces AW_SHADE_KERNEL_ATTR to measure other widths.
 #define AW_SHADE_KERNEL_ATTR AW_SCALAR_KERNEL
-#define AW_STAGE_KERNEL(name)                                                             \
-  __kernel AW_SHADE_KERNEL_ATTR __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
+#define AW_STAGE_KERNEL_WITH(attr, name)                                       \
+  __kernel attr __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
       const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
-#define AW_STAGE_KERNEL_SCALAR(name)                                                  \
-  __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(AW_WG, 1, 1))) void name( \
-      const RenderParams rp AW_STAGE_ARGS(AW_STAGE_PARAM_VALUE, AW_STAGE_PARAM_BUFFER))
+#define AW_STAGE_KERNEL(name) AW_STAGE_KERNEL_WITH(AW_SHADE_KERNEL_ATTR, name)
+#define AW_STAGE_KERNEL_SCALAR(name) AW_STAGE_KERNEL_WITH(AW_SCALAR_KERNEL, name)
 
 // The path in slot `slot` and the scene, from the stage arguments.
 #define AW_STAGE_PATH(slot) path_ref_make(sf, su, snap_f, snap_u, aov_state, rp.pool_size, (slot))
