@@ -5,7 +5,9 @@
 //            tracer spends most of its time on.
 // OpenCL: kernel time only (upload/download excluded), after one warm-up run, best of 3.
 // Embree: the same rays with rtcIntersect1 on as many std::threads as the OpenCL device has
-// compute units (so both use the same cores), and on 1 thread for reference; best of 3.
+// compute units (so both use the same cores), and on 1 thread for reference; and with
+// rtcIntersect8/rtcIntersect16 on packets of consecutive rays (what packet traversal could gain
+// on these rays, docs/performance.md); best of 3.
 // Embree's scene is EmbreeScene (robust mode), the one the scalar path and the tests use.
 //
 // Prints a Markdown table plus the machine; --out FILE writes the same text to FILE, --json
@@ -255,6 +257,60 @@ double embree_trace(RTCScene scene, const std::vector<RayIn>& rays, unsigned thr
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+// The same batch through Embree's packet interface, rtcIntersect8 or rtcIntersect16 on packets of
+// N consecutive rays of the batch (for primary rays: N neighbouring pixels of one image row;
+// for diffuse rays: the bounces of those pixels), with Embree's coherent-rays hint for primary
+// rays. Embree's hybrid traversal (Benthin et al. 2012, "Combining Single and Packet-Ray Tracing
+// for Arbitrary Ray Distributions on the Intel MIC Architecture", Sec. 4) runs a packet while
+// its rays stay together and falls back to single rays when they scatter: this is the upper
+// bound of what tracing a packet of N rays per SIMD instruction stream can give on these rays.
+template <int N, typename RayHitN, typename Fn>
+double embree_trace_packets(RTCScene scene, const std::vector<RayIn>& rays, unsigned threads, bool coherent,
+                            std::vector<Hit>* hits, Fn intersect) {
+  hits->assign(rays.size(), Hit{0, 0, 0, -1});
+  std::atomic<size_t> next{0};
+  const size_t chunk = 1024;  // a multiple of N
+  auto work = [&]() {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) RayHitN rh;
+    alignas(64) int valid[N];
+    for (;;) {
+      size_t begin = next.fetch_add(chunk);
+      if (begin >= rays.size()) return;
+      size_t end = std::min(rays.size(), begin + chunk);
+      for (size_t p = begin; p < end; p += N) {
+        for (int k = 0; k < N; ++k) {
+          size_t i = p + size_t(k);
+          valid[k] = i < end ? -1 : 0;
+          const RayIn& r = rays[i < end ? i : p];
+          rh.ray.org_x[k] = r.org.x; rh.ray.org_y[k] = r.org.y; rh.ray.org_z[k] = r.org.z;
+          rh.ray.dir_x[k] = r.dir.x; rh.ray.dir_y[k] = r.dir.y; rh.ray.dir_z[k] = r.dir.z;
+          rh.ray.tnear[k] = r.t_min;
+          rh.ray.tfar[k] = r.t_max;
+          rh.ray.time[k] = 0.0f;
+          rh.ray.mask[k] = 0xffffffffu;
+          rh.ray.id[k] = 0;
+          rh.ray.flags[k] = 0;
+          rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+          rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        }
+        intersect(valid, scene, &ctx, &rh);
+        for (int k = 0; k < N && p + size_t(k) < end; ++k)
+          if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
+            (*hits)[p + size_t(k)] = Hit{rh.ray.tfar[k], rh.hit.u[k], rh.hit.v[k], int(rh.hit.primID[k])};
+      }
+    }
+  };
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::thread> pool;
+  for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 // Best of `runs` after one untimed warm-up (first-touch page faults, OpenCL first launch).
 double best_of(int runs, const std::function<double()>& f) {
   f();
@@ -266,7 +322,8 @@ double best_of(int runs, const std::function<double()>& f) {
 // Hit/miss disagreements, and hits on different triangles at different distances (1e-5
 // relative: not a tie). A few are expected at edges (two watertight tests rounding
 // differently); tests/bvh checks the exact criteria, this is a sanity check of the batch.
-double mismatch_fraction(const std::vector<Hit>& a, const std::vector<TriangleHit>& b) {
+template <typename HitB>
+double mismatch_fraction(const std::vector<Hit>& a, const std::vector<HitB>& b) {
   size_t bad = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     if ((a[i].prim < 0) != (b[i].prim < 0)) ++bad;
@@ -343,7 +400,7 @@ int main(int argc, char** argv) {
     struct Row {
       std::string kind;
       size_t rays;
-      double cl_s, embree_s, embree1_s;
+      double cl_s, embree_s, embree1_s, embree8_s, embree16_s;
       double mismatch;
     };
     std::vector<Row> rows;
@@ -363,6 +420,25 @@ int main(int argc, char** argv) {
       row.embree_s = best_of(3, [&] { return embree_trace(escene.get(), rays, cu, &e_hits); });
       std::vector<Hit> e1_hits;
       row.embree1_s = best_of(3, [&] { return embree_trace(escene.get(), rays, 1, &e1_hits); });
+      std::vector<Hit> e8_hits, e16_hits;
+      const bool coherent = kind == 0;
+      row.embree8_s = best_of(3, [&] {
+        return embree_trace_packets<8, RTCRayHit8>(escene.get(), rays, cu, coherent, &e8_hits,
+                                                  [](const int* v, RTCScene sc, RTCIntersectContext* c, RTCRayHit8* r) {
+                                                    rtcIntersect8(v, sc, c, r);
+                                                  });
+      });
+      row.embree16_s = best_of(3, [&] {
+        return embree_trace_packets<16, RTCRayHit16>(escene.get(), rays, cu, coherent, &e16_hits,
+                                                    [](const int* v, RTCScene sc, RTCIntersectContext* c, RTCRayHit16* r) {
+                                                      rtcIntersect16(v, sc, c, r);
+                                                    });
+      });
+      // Packets must find what single rays find. Embree's packet triangle test rounds apart from
+      // its single-ray one, so rays through an edge may differ (as the kernel's do: the last
+      // column); more than 0.1% of rays would be a bug in the packet code above.
+      if (mismatch_fraction(e1_hits, e16_hits) > 1e-3 || mismatch_fraction(e1_hits, e8_hits) > 1e-3)
+        throw std::runtime_error("Embree's packet hits differ from its single-ray hits");
       row.mismatch = mismatch_fraction(e_hits, cl_hits);
       rows.push_back(row);
     }
@@ -375,7 +451,10 @@ int main(int argc, char** argv) {
     o << "- OpenCL device " << opt.device << ": " << rt.info().name << " (" << rt.info().platform << ", "
       << rt.info().version << "), " << cu << " compute units\n";
     o << "- Embree: " << RTC_VERSION_STRING << ", robust scene, rtcIntersect1 on " << cu
-      << " threads (= compute units) and on 1 thread\n";
+      << " threads (= compute units) and on 1 thread; rtcIntersect8/16 on packets of consecutive rays on " << cu
+      << " threads (native packet support: 8 "
+      << (rtcGetDeviceProperty(embree.get(), RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? "yes" : "no") << ", 16 "
+      << (rtcGetDeviceProperty(embree.get(), RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) ? "yes" : "no") << ")\n";
     o << "- geometry: " << geometry << ", " << soup.indices.size() << " triangles; flat BVH " << bvh.nodes.size()
       << " nodes, depth " << bvh.max_depth << "\n";
     std::snprintf(buf, sizeof(buf), "- primary rays: %d x %d pinhole camera; diffuse rays: one per primary hit\n",
@@ -384,15 +463,17 @@ int main(int argc, char** argv) {
     o << "- OpenCL: kernel time only, best of 3 after a warm-up; Embree: wall time, best of 3 after a warm-up\n\n";
     std::snprintf(buf, sizeof(buf),
                   "| ray kind | rays | OpenCL Mrays/s | Embree Mrays/s (%u threads) | ratio OpenCL/Embree | "
-                  "Embree 1-thread Mrays/s | hit mismatch OpenCL vs Embree |\n",
+                  "Embree 1-thread Mrays/s | Embree rtcIntersect8 Mrays/s | Embree rtcIntersect16 Mrays/s | "
+                  "hit mismatch OpenCL vs Embree |\n",
                   cu);
     o << buf;
-    o << "|---|---:|---:|---:|---:|---:|---:|\n";
+    o << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const Row& r : rows) {
       double cl = double(r.rays) / r.cl_s * 1e-6, em = double(r.rays) / r.embree_s * 1e-6,
              em1 = double(r.rays) / r.embree1_s * 1e-6;
-      std::snprintf(buf, sizeof(buf), "| %s | %zu | %.2f | %.2f | %.2f | %.2f | %.4f%% |\n", r.kind.c_str(), r.rays, cl,
-                    em, cl / em, em1, 100.0 * r.mismatch);
+      double em8 = double(r.rays) / r.embree8_s * 1e-6, em16 = double(r.rays) / r.embree16_s * 1e-6;
+      std::snprintf(buf, sizeof(buf), "| %s | %zu | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.4f%% |\n", r.kind.c_str(),
+                    r.rays, cl, em, cl / em, em1, em8, em16, 100.0 * r.mismatch);
       o << buf;
     }
     std::fputs(o.str().c_str(), stdout);
@@ -415,6 +496,8 @@ int main(int argc, char** argv) {
                              {"opencl_mrays", double(r.rays) / r.cl_s * 1e-6},
                              {"embree_mrays", double(r.rays) / r.embree_s * 1e-6},
                              {"embree1_mrays", double(r.rays) / r.embree1_s * 1e-6},
+                             {"embree8_mrays", double(r.rays) / r.embree8_s * 1e-6},
+                             {"embree16_mrays", double(r.rays) / r.embree16_s * 1e-6},
                              {"mismatch", r.mismatch}});
       std::ofstream f(opt.json);
       f << j.dump(2) << "\n";
