@@ -200,6 +200,13 @@ AW_FN int light_quad_by_solid_angle(const AW_GLOBAL LightGpu* l, float3 p, SphRe
   return r->S > AW_SPH_RECT_MIN_SOLID_ANGLE && r->S < AW_SPH_RECT_MAX_SOLID_ANGLE && isfinite(r->S);
 }
 
+// Uniform area sampling of a flat light (quad, disk, triangle) converted to solid angle at
+// distance t along unit dir: t^2 / (A cos_l) (Veach 1997, Sec. 9.2).
+AW_FN float light_area_pdf(const AW_GLOBAL LightGpu* l, float3 dir, float t) {
+  float cos_l = fabs(dot(load_f3(l->n), dir));
+  return cos_l > 0.0f ? (t * t) / (l->area * cos_l) : 0.0f;
+}
+
 // Solid-angle pdf (given the light is chosen) of reaching `l` from `p` along unit `dir`,
 // hitting it at distance `t`. Must match light_sample exactly (MIS relies on it).
 AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t) {
@@ -221,8 +228,7 @@ AW_FN float light_pdf(const AW_GLOBAL LightGpu* l, float3 p, float3 dir, float t
   }
   SphRect r;
   if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD && light_quad_by_solid_angle(l, p, &r)) return 1.0f / r.S;
-  float cos_l = fabs(dot(load_f3(l->n), dir));
-  return cos_l > 0.0f ? (t * t) / (l->area * cos_l) : 0.0f;
+  return light_area_pdf(l, dir, t);
 }
 
 // Samples a point on light `l` as seen from `p` (Veach 1997, Sec. 9.2: area sampling
@@ -236,6 +242,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   s.wi = make_float3(0.0f, 0.0f, 1.0f);
   float3 y;
   float pdf_solid_angle = 0.0f;  // set when the point was drawn uniformly in solid angle
+  int quad_by_area = 0;          // a quad's point drawn by area: its density is the area one below
   if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) return sun_sample(l, u);
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) {
     float3 d = load_f3(l->p) - p;
@@ -293,6 +300,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
       pdf_solid_angle = 1.0f / r.S;
     } else {
       y = load_f3(l->p) + u.x * load_f3(l->u) + u.y * load_f3(l->v);
+      quad_by_area = 1;
     }
   } else {  // disk
     float2 d = sample_concentric_disk(u);
@@ -303,7 +311,12 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   if (!(d2 > 0.0f)) return s;
   s.dist = sqrt(d2);
   s.wi = d / s.dist;
-  float pdf = pdf_solid_angle > 0.0f ? pdf_solid_angle : light_pdf(l, p, s.wi, s.dist);
+  // A quad drawn by area takes the area density directly: light_pdf would run the solid-angle
+  // test again (light_quad_by_solid_angle: two divisions and a square root) only to reach the
+  // same answer.
+  float pdf = pdf_solid_angle > 0.0f ? pdf_solid_angle
+              : quad_by_area         ? light_area_pdf(l, s.wi, s.dist)
+                                     : light_pdf(l, p, s.wi, s.dist);
   if (!(pdf > 0.0f) || !isfinite(pdf)) return s;
   s.le = light_emitted(l, s.wi);
   s.pdf = pdf;
