@@ -217,19 +217,36 @@ std::vector<RayIn> diffuse_rays(const aw::TriangleSoup& s, const std::vector<Ray
 }
 
 // ---- Embree on host threads ---------------------------------------------------------------------
-// rtcIntersect1 over the batch on `threads` std::threads pulling chunks of 1024 rays from a
-// shared counter (load balance: incoherent rays vary a lot in cost). Returns wall seconds.
-double embree_trace(RTCScene scene, const std::vector<RayIn>& rays, unsigned threads, std::vector<Hit>* hits) {
-  hits->assign(rays.size(), Hit{0, 0, 0, -1});
+// Runs trace(begin, end) over [0, n) on `threads` std::threads pulling chunks of 1024 rays from a
+// shared counter (load balance: incoherent rays vary a lot in cost). Each thread makes its own
+// tracer with make_tracer() (holding its own Embree context). Returns wall seconds.
+template <typename MakeTracer>
+double run_chunks(size_t n, unsigned threads, MakeTracer make_tracer) {
   std::atomic<size_t> next{0};
-  const size_t chunk = 1024;
+  const size_t chunk = 1024;  // a multiple of every packet size below
   auto work = [&]() {
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
+    auto trace = make_tracer();
     for (;;) {
       size_t begin = next.fetch_add(chunk);
-      if (begin >= rays.size()) return;
-      size_t end = std::min(rays.size(), begin + chunk);
+      if (begin >= n) return;
+      trace(begin, std::min(n, begin + chunk));
+    }
+  };
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::thread> pool;
+  for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work);
+  work();
+  for (auto& t : pool) t.join();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// rtcIntersect1 over the batch.
+double embree_trace(RTCScene scene, const std::vector<RayIn>& rays, unsigned threads, std::vector<Hit>* hits) {
+  hits->assign(rays.size(), Hit{0, 0, 0, -1});
+  return run_chunks(rays.size(), threads, [&]() {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    return [&, ctx](size_t begin, size_t end) mutable {
       for (size_t i = begin; i < end; ++i) {
         const RayIn& r = rays[i];
         RTCRayHit rh;
@@ -244,17 +261,10 @@ double embree_trace(RTCScene scene, const std::vector<RayIn>& rays, unsigned thr
         rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(scene, &ctx, &rh);
-        Hit& h = (*hits)[i];
-        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) h = Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, int(rh.hit.primID)};
+        if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) (*hits)[i] = Hit{rh.ray.tfar, rh.hit.u, rh.hit.v, int(rh.hit.primID)};
       }
-    }
-  };
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::thread> pool;
-  for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+  });
 }
 
 // The same batch through Embree's packet interface, rtcIntersect8 or rtcIntersect16 on packets of
@@ -264,22 +274,18 @@ double embree_trace(RTCScene scene, const std::vector<RayIn>& rays, unsigned thr
 // for Arbitrary Ray Distributions on the Intel MIC Architecture", Sec. 4) runs a packet while
 // its rays stay together and falls back to single rays when they scatter: this is the upper
 // bound of what tracing a packet of N rays per SIMD instruction stream can give on these rays.
-template <int N, typename RayHitN, typename Fn>
+template <int N, typename RayHitN>
 double embree_trace_packets(RTCScene scene, const std::vector<RayIn>& rays, unsigned threads, bool coherent,
-                            std::vector<Hit>* hits, Fn intersect) {
+                            std::vector<Hit>* hits,
+                            void (*intersect)(const int*, RTCScene, RTCIntersectContext*, RayHitN*)) {
   hits->assign(rays.size(), Hit{0, 0, 0, -1});
-  std::atomic<size_t> next{0};
-  const size_t chunk = 1024;  // a multiple of N
-  auto work = [&]() {
+  return run_chunks(rays.size(), threads, [&]() {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     if (coherent) ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    alignas(64) RayHitN rh;
-    alignas(64) int valid[N];
-    for (;;) {
-      size_t begin = next.fetch_add(chunk);
-      if (begin >= rays.size()) return;
-      size_t end = std::min(rays.size(), begin + chunk);
+    return [&, ctx](size_t begin, size_t end) mutable {
+      alignas(64) RayHitN rh;
+      alignas(64) int valid[N];
       for (size_t p = begin; p < end; p += N) {
         for (int k = 0; k < N; ++k) {
           size_t i = p + size_t(k);
@@ -301,14 +307,8 @@ double embree_trace_packets(RTCScene scene, const std::vector<RayIn>& rays, unsi
           if (rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID)
             (*hits)[p + size_t(k)] = Hit{rh.ray.tfar[k], rh.hit.u[k], rh.hit.v[k], int(rh.hit.primID[k])};
       }
-    }
-  };
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<std::thread> pool;
-  for (unsigned k = 1; k < threads; ++k) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+  });
 }
 
 // Best of `runs` after one untimed warm-up (first-touch page faults, OpenCL first launch).
@@ -432,16 +432,10 @@ int main(int argc, char** argv) {
       std::vector<Hit> e8_hits, e16_hits;
       const bool coherent = kind == 0;
       row.embree8_s = best_of(3, [&] {
-        return embree_trace_packets<8, RTCRayHit8>(escene.get(), rays, cu, coherent, &e8_hits,
-                                                  [](const int* v, RTCScene sc, RTCIntersectContext* c, RTCRayHit8* r) {
-                                                    rtcIntersect8(v, sc, c, r);
-                                                  });
+        return embree_trace_packets<8, RTCRayHit8>(escene.get(), rays, cu, coherent, &e8_hits, rtcIntersect8);
       });
       row.embree16_s = best_of(3, [&] {
-        return embree_trace_packets<16, RTCRayHit16>(escene.get(), rays, cu, coherent, &e16_hits,
-                                                    [](const int* v, RTCScene sc, RTCIntersectContext* c, RTCRayHit16* r) {
-                                                      rtcIntersect16(v, sc, c, r);
-                                                    });
+        return embree_trace_packets<16, RTCRayHit16>(escene.get(), rays, cu, coherent, &e16_hits, rtcIntersect16);
       });
       // Packets must find what single rays find. Embree's packet triangle test rounds apart from
       // its single-ray one, so rays through an edge may differ (as the kernel's do: the last

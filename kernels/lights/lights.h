@@ -242,7 +242,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   s.wi = make_float3(0.0f, 0.0f, 1.0f);
   float3 y;
   float pdf_solid_angle = 0.0f;  // set when the point was drawn uniformly in solid angle
-  int quad_by_area = 0;          // a quad's point drawn by area: its density is the area one below
+  int sphere_inside = 0;         // drawn on a sphere's surface from inside it (light_pdf's density)
   if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) return sun_sample(l, u);
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) {
     float3 d = load_f3(l->p) - p;
@@ -286,6 +286,7 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
     sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y
     float3 nrm = make_float3(rxy * cp, rxy * sp, z);
     y = c + l->radius * nrm;
+    sphere_inside = 1;
   } else if (AW_FEAT_LIGHT_MESH && l->type == AW_LIGHT_TRIANGLE) {
     // Uniform by area: the square-root warp to barycentrics (Turk 1990, "Generating Random
     // Points in Triangles", Graphics Gems; PBR 3rd ed., Sec. 13.6.4). (Arvo's 1995 spherical
@@ -300,7 +301,6 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
       pdf_solid_angle = 1.0f / r.S;
     } else {
       y = load_f3(l->p) + u.x * load_f3(l->u) + u.y * load_f3(l->v);
-      quad_by_area = 1;
     }
   } else {  // disk
     float2 d = sample_concentric_disk(u);
@@ -311,12 +311,13 @@ AW_FN LightSample light_sample(const AW_GLOBAL LightGpu* l, float3 p, float2 u) 
   if (!(d2 > 0.0f)) return s;
   s.dist = sqrt(d2);
   s.wi = d / s.dist;
-  // A quad drawn by area takes the area density directly: light_pdf would run the solid-angle
-  // test again (light_quad_by_solid_angle: two divisions and a square root) only to reach the
-  // same answer.
+  // Every other point was drawn uniformly by area on a flat light (triangle, quad, disk): its
+  // density is the area one, taken directly, since light_pdf would dispatch on the type and,
+  // for a quad, run the solid-angle test again (two divisions and a square root) only to reach
+  // the same answer.
   float pdf = pdf_solid_angle > 0.0f ? pdf_solid_angle
-              : quad_by_area         ? light_area_pdf(l, s.wi, s.dist)
-                                     : light_pdf(l, p, s.wi, s.dist);
+              : sphere_inside        ? light_pdf(l, p, s.wi, s.dist)
+                                     : light_area_pdf(l, s.wi, s.dist);
   if (!(pdf > 0.0f) || !isfinite(pdf)) return s;
   s.le = light_emitted(l, s.wi);
   s.pdf = pdf;
