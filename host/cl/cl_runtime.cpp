@@ -1,6 +1,7 @@
 #include "host/cl/cl_runtime.h"
 
 #include "host/cl/kernel_cache.h"
+#include "host/cl/kernel_source.h"
 
 #include <cctype>
 #include <chrono>
@@ -72,6 +73,7 @@ std::vector<DeviceInfo> list_devices() {
       i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
       i.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
       i.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
+      i.correctly_rounded_divide_sqrt = (d.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
       i.device = d;
       out.push_back(i);
     }
@@ -146,7 +148,21 @@ ClRuntime::ClRuntime(int device_index) {
   }
 }
 
-cl::Program ClRuntime::build(const std::string& source, const std::string& options, double* seconds) {
+std::string device_build_options(const DeviceInfo& device, const std::string& options) {
+  // Division and sqrt correctly rounded wherever the device can (OpenCL 1.2 §5.6.4.2; without
+  // the option §7.4 allows 2.5 ulp for x / y and 3 ulp for sqrt). The kernels are held to
+  // compute what the host scalar path computes, and the host divides and takes roots correctly
+  // rounded. Why it matters: on an H200 (driver 580, 2026-12-04) the Fresnel and refraction
+  // probes came out 6e-5 and 9e-5 off the host where a difference cancels: near the zero of
+  // (c - g) / (c + g), one ulp of g is 3e-5 of a 2e-3 difference. PoCL offers the option (and
+  // divided correctly rounded anyway); Intel's CPU runtime does not offer it.
+  if (!device.correctly_rounded_divide_sqrt || options.find("-cl-fp32-correctly-rounded-divide-sqrt") != std::string::npos)
+    return options;
+  return options + (options.empty() ? "" : " ") + "-cl-fp32-correctly-rounded-divide-sqrt";
+}
+
+cl::Program ClRuntime::build(const std::string& source, const std::string& requested, double* seconds) {
+  const std::string options = device_build_options(info_, requested);
   auto t0 = std::chrono::steady_clock::now();
   auto done = [&](cl::Program p) {
     if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -183,7 +199,7 @@ cl::Program ClRuntime::build(const std::string& source, const std::string& optio
       log = "(no build log available)";
     }
     throw ClError("OpenCL program build failed on " + info_.name + " (" + cl_error_name(e.err()) +
-                  ") with options \"" + options + "\"; build log:\n" + log);
+                  ") with options \"" + options + "\"; build log:\n" + annotate_build_log(source, log));
   }
   // Development aid: the compiler's warnings of a successful build (PoCL only prints their count).
   if (const char* v = std::getenv("ARCHWAVE_BUILD_LOG"); v && *v && std::string(v) != "0") {

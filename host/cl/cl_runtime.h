@@ -30,6 +30,9 @@ struct DeviceInfo {
   unsigned compute_units = 0;
   uint64_t global_mem = 0;
   uint64_t max_alloc = 0;
+  // CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT of CL_DEVICE_SINGLE_FP_CONFIG: the device can divide
+  // and take square roots correctly rounded when a program asks (device_build_options).
+  bool correctly_rounded_divide_sqrt = false;
   cl::Device device;
 };
 
@@ -53,6 +56,11 @@ int resolve_device(const std::string& spec, const std::vector<DeviceInfo>& devic
 // (host/render/device_choice.h).
 constexpr int kDefaultDevice = -1;
 
+// The options a program is built with on `device`: `options` plus
+// -cl-fp32-correctly-rounded-divide-sqrt where the device offers it, so that every device
+// divides and takes roots as the host does (docs/devices.md, "The tests on that GPU").
+std::string device_build_options(const DeviceInfo& device, const std::string& options);
+
 // One device with a context and an in-order queue.
 class ClRuntime {
  public:
@@ -66,6 +74,7 @@ class ClRuntime {
   // Records the wall time of the build (cold or cached) in *seconds when given.
   // Uses the disk cache of compiled programs (host/cl/kernel_cache.h) where the runtime has
   // none of its own.
+  // The device's own options are added (device_build_options).
   cl::Program build(const std::string& source, const std::string& options, double* seconds = nullptr);
   // How the last build() got its program: "binary cache hit", "compiled (binary cache miss)",
   // "PoCL's cache" (PoCL compiles or reuses its own), ... (the render stats show it).

@@ -2,9 +2,11 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace aw {
 
@@ -68,6 +70,60 @@ std::string assemble_kernel_source(const std::string& entry, const std::string& 
   std::set<std::string> seen;
   std::string out;
   expand(entry, kernel_dir, seen, out);
+  return out;
+}
+
+namespace {
+
+// Where every raw line of an assembled source comes from ("" for the `#line` markers and
+// anything before the first one), read off its markers.
+std::vector<std::string> source_locations(const std::string& source) {
+  // `#line N "file"`: the next raw line is line N of file (C11 6.10.4).
+  static const std::regex marker(R"re(^#line (\d{1,9}) "([^"]*)"\s*$)re");
+  std::vector<std::string> out;
+  std::string file;
+  long next = 1;  // the line number in `file` of the next raw line
+  std::istringstream in(source);
+  std::string text;
+  std::smatch m;
+  while (std::getline(in, text)) {
+    if (std::regex_match(text, m, marker)) {
+      out.emplace_back();
+      next = std::stol(m[1].str());
+      file = m[2].str();
+    } else {
+      out.push_back(file.empty() ? std::string() : file + ":" + std::to_string(next));
+      ++next;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string assembled_source_location(const std::string& source, long line) {
+  std::vector<std::string> where = source_locations(source);
+  return line >= 1 && size_t(line) <= where.size() ? where[size_t(line - 1)] : std::string();
+}
+
+std::string annotate_build_log(const std::string& source, const std::string& log) {
+  // "<kernel>:LINE:COL" or "<kernel>:LINE": a compiler's name for a source it was given as a
+  // string. A name in angle brackets never is one of ours (ours are kernels/<file>).
+  static const std::regex position(R"((<[A-Za-z_ ]+>):(\d{1,9})(:(\d{1,9}))?)");
+  std::vector<std::string> where;  // read once, at the first position
+  std::string out;
+  size_t last = 0;
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), position); it != std::sregex_iterator(); ++it) {
+    const std::smatch& m = *it;
+    if (where.empty()) where = source_locations(source);
+    const long line = std::stol(m[2].str());
+    out.append(log, last, size_t(m.position(0)) - last);
+    out += m.str(0);
+    if (line >= 1 && size_t(line) <= where.size() && !where[size_t(line - 1)].empty())
+      out += " [" + where[size_t(line - 1)] + (m[4].matched ? ":" + m[4].str() : "") + "]";
+    last = size_t(m.position(0) + m.length(0));
+  }
+  out.append(log, last, std::string::npos);
   return out;
 }
 

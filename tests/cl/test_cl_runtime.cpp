@@ -5,9 +5,14 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "host/cl/cl_runtime.h"
 #include "host/cl/kernel_source.h"
@@ -34,6 +39,103 @@ TEST(ClRuntime, BuildFailureCarriesTheLogWithFileAndLine) {
     EXPECT_NE(m.find("undefined_name"), std::string::npos) << m;
     EXPECT_NE(m.find("kernels/broken.cl:2"), std::string::npos) << m;
   }
+}
+
+// NVIDIA's OpenCL compiler ignores `#line` (measured on an H200, driver 580: the log said
+// "<kernel>:3:10" for line 2 of kernels/broken.cl). The log then names the raw line, and
+// annotate_build_log adds the file and line it comes from. The log below is that one.
+TEST(ClRuntime, BuildLogPositionsInTheRawSourceNameTheKernelFile) {
+  const std::string src = "#line 1 \"kernels/broken.cl\"\n__kernel void k(__global float* x) {\n  x[0] = undefined_name;\n}\n";
+  const std::string log =
+      "<kernel>:3:10: error: use of undeclared identifier 'undefined_name'\n  x[0] = undefined_name;\n         ^\n";
+  const std::string m = aw::annotate_build_log(src, log);
+  EXPECT_NE(m.find("<kernel>:3:10 [kernels/broken.cl:2:10]: error: use of undeclared identifier"), std::string::npos) << m;
+  EXPECT_NE(m.find("  x[0] = undefined_name;\n         ^"), std::string::npos) << m;  // the rest untouched
+
+  // Through nested files: a line of the included header and a line after the include.
+  const std::string nested =
+      "#line 1 \"kernels/a.cl\"\nint a1;\n#line 1 \"kernels/common/b.h\"\nint b1;\nint b2;\n#line 3 \"kernels/a.cl\"\nint a3;\n";
+  EXPECT_EQ(aw::assembled_source_location(nested, 2), "kernels/a.cl:1");
+  EXPECT_EQ(aw::assembled_source_location(nested, 5), "kernels/common/b.h:2");
+  EXPECT_EQ(aw::assembled_source_location(nested, 7), "kernels/a.cl:3");
+  EXPECT_EQ(aw::assembled_source_location(nested, 1), "");   // a marker is no source line
+  EXPECT_EQ(aw::assembled_source_location(nested, 8), "");   // past the end
+  EXPECT_EQ(aw::assembled_source_location(nested, 0), "");
+  EXPECT_EQ(aw::annotate_build_log(nested, "<source>:5:3: warning: x\n<kernel>:99:1: error: y\n"),
+            "<source>:5:3 [kernels/common/b.h:2:3]: warning: x\n<kernel>:99:1: error: y\n");
+  EXPECT_EQ(aw::annotate_build_log(nested, "<kernel>:4: note\n"), "<kernel>:4 [kernels/common/b.h:1]: note\n");
+  // A compiler that honours #line (PoCL, Intel) names the file itself: nothing is added.
+  const std::string pocl = "kernels/broken.cl:2:10: error: use of undeclared identifier 'undefined_name'\n";
+  EXPECT_EQ(aw::annotate_build_log(src, pocl), pocl);
+  // Numbers too long for a line are left alone rather than thrown on.
+  EXPECT_EQ(aw::annotate_build_log(src, "<kernel>:99999999999999999999:1"), "<kernel>:99999999999999999999:1");
+}
+
+// Every device divides and takes square roots as the host does where it offers to
+// (device_build_options adds -cl-fp32-correctly-rounded-divide-sqrt): bit for bit over random,
+// tiny and huge operands (normal ones: a device may flush subnormals, CL_FP_DENORM). A device
+// that does not offer it is held to the spec's bounds instead (OpenCL 1.2 §7.4: 2.5 ulp for
+// x / y, 3 ulp for sqrt).
+TEST(ClRuntime, DivisionAndSqrtAreCorrectlyRoundedWhereTheDeviceOffersIt) {
+  aw::ClRuntime rt(aw::kDefaultDevice);
+  const bool offered = rt.info().correctly_rounded_divide_sqrt;
+  EXPECT_EQ(aw::device_build_options(rt.info(), "-cl-std=CL1.2").find("-cl-fp32-correctly-rounded-divide-sqrt") !=
+                std::string::npos,
+            offered);
+  const std::string src =
+      "__kernel void k(__global const float* a, __global const float* b, __global float* q, __global float* r) {\n"
+      "  uint i = get_global_id(0); q[i] = a[i] / b[i]; r[i] = sqrt(a[i]); }\n";
+  cl::Program p = rt.build(src, "-cl-std=CL1.2");
+  const size_t n = 1 << 16;
+  std::vector<float> a(n), b(n);
+  std::mt19937 rng(20261204);
+  std::uniform_real_distribution<float> mant(1.0f, 2.0f);
+  std::uniform_int_distribution<int> ex(-60, 60);
+  for (size_t i = 0; i < n; ++i) {
+    // Operands over 120 binades, every 64th one near the bottom (a) or the top (b) of the range.
+    a[i] = std::ldexp(mant(rng), ex(rng));
+    b[i] = std::ldexp(mant(rng), ex(rng));
+    if (i % 64 == 0) a[i] = std::ldexp(mant(rng), -126);
+    if (i % 64 == 1) b[i] = std::ldexp(mant(rng), 120);
+  }
+  cl::Buffer ba = rt.buffer("a", n * 4, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, a.data());
+  cl::Buffer bb = rt.buffer("b", n * 4, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, b.data());
+  cl::Buffer bq = rt.buffer("q", n * 4), br = rt.buffer("r", n * 4);
+  cl::Kernel k(p, "k");
+  k.setArg(0, ba), k.setArg(1, bb), k.setArg(2, bq), k.setArg(3, br);
+  rt.queue().enqueueNDRangeKernel(k, cl::NullRange, cl::NDRange(n), cl::NDRange(64));
+  std::vector<float> q(n), r(n);
+  rt.queue().enqueueReadBuffer(bq, CL_TRUE, 0, n * 4, q.data());
+  rt.queue().enqueueReadBuffer(br, CL_TRUE, 0, n * 4, r.data());
+  auto ulps = [](float x, float y) {  // distance in representable floats (same sign here)
+    int32_t ix, iy;
+    std::memcpy(&ix, &x, 4), std::memcpy(&iy, &y, 4);
+    return std::abs(int64_t(ix) - int64_t(iy));
+  };
+  int64_t worst_q = 0, worst_r = 0;
+  size_t off_q = 0, off_r = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const float hq = a[i] / b[i], hr = std::sqrt(a[i]);
+    // Quotients are compared only where normal (see above).
+    if (std::fpclassify(hq) == FP_NORMAL) {
+      int64_t d = ulps(q[i], hq);
+      worst_q = std::max(worst_q, d), off_q += d != 0;
+    }
+    int64_t d = ulps(r[i], hr);
+    worst_r = std::max(worst_r, d), off_r += d != 0;
+  }
+  const std::string what = rt.info().name + " (" + rt.info().platform + "), correct rounding " +
+                           (offered ? "offered" : "not offered") + ": x / y " + std::to_string(off_q) +
+                           " results off, at most " + std::to_string(worst_q) + " ulp; sqrt " + std::to_string(off_r) +
+                           " off, at most " + std::to_string(worst_r) + " ulp";
+  if (offered) {
+    EXPECT_EQ(worst_q, 0) << what;
+    EXPECT_EQ(worst_r, 0) << what;
+  } else {
+    EXPECT_LE(worst_q, 3) << what;  // 2.5 ulp, counted in whole floats
+    EXPECT_LE(worst_r, 3) << what;
+  }
+  std::printf("[ info     ] %s\n", what.c_str());
 }
 
 TEST(ClRuntime, AssembledKernelsPointErrorsAtTheRealFile) {
