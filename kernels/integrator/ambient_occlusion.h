@@ -78,7 +78,7 @@ AW_FN int ambient_occlusion(PathRef ps, SceneRef sc, const RenderParams* rp) {
   if (m->ao_flags & AW_AO_MULTIPLY) {
     // (A light-sampled triangle's emission was added, MIS-weighted, by classify_hit.)
     int is_light = triangle_light(sc, rp, PS_U(ps, hit_prim)) != AW_NONE;
-    if ((m->ao_flags & AW_AO_INCANDESCENCE) && AW_FEAT_INCANDESCENCE && !is_light)
+    if (AW_FEAT_INCANDESCENCE && (m->ao_flags & AW_AO_INCANDESCENCE) && !is_light)
       ps_add_radiance(ps, thr * load_f3(m->incandescent) * ao * PS_F(ps, emit_scale));
     ps_set_throughput(ps, thr * ao);
   } else if (!(m->flags & AW_MAT_METAL)) {  // metal has no diffuse (docs/material.md §1)

@@ -182,7 +182,7 @@ AW_FN void classify_light_hit(PathRef ps, SceneRef sc, const RenderParams* rp, u
 AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp, float3 dir, float3 thr) {
   float3 le = load_f3p(rp->env_radiance);
   int mis = PS_U(ps, bounce) > 0u && !(PS_U(ps, flags) & AW_PATH_SPECULAR);
-  for (uint i = 0u; (AW_FEAT_LIGHT_SUN || AW_FEAT_ENV_MAP) && i < rp->num_infinite; ++i) {
+  for (uint i = 0u; (AW_FEAT_LIGHT_SUN | AW_FEAT_ENV_MAP) && i < rp->num_infinite; ++i) {
     const AW_GLOBAL LightGpu* l = &sc.lights[i];
     float3 li;
     float pdf;
@@ -344,7 +344,7 @@ AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGp
   if (h.front) PS_U(ps, flags) |= AW_PATH_FRONT;
   else PS_U(ps, flags) &= ~AW_PATH_FRONT;
   float3 tangent = make_float3(0.0f, 0.0f, 0.0f);
-  if (AW_FEAT_ANISOTROPY && AW_FEAT_SPHERE && m->aniso_amount != 0.0f && h.sphere) {
+  if ((AW_FEAT_ANISOTROPY & AW_FEAT_SPHERE) && m->aniso_amount != 0.0f && h.sphere) {
     // Both orientations are dP/du on a sphere (make_sphere's tangents are its direction),
     // taken as the unit (-sin p, 0, -cos p) in the sphere's frame, defined at the poles too.
     float p = 2.0f * M_PI_F * h.uv.x;

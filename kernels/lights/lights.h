@@ -329,7 +329,9 @@ AW_FN float light_intersect(const AW_GLOBAL LightGpu* l, float3 org, float3 dir,
   if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return -1.0f;
   // Lights at infinity are found by rays that escape the scene (classify_hit.h), triangle
   // lights as the geometry they are (classify_hit.h), not here.
-  if ((AW_FEAT_LIGHT_SUN || AW_FEAT_ENV_MAP || AW_FEAT_LIGHT_MESH) && l->type >= AW_LIGHT_SUN) return -1.0f;
+  // (The switches are 0 or 1, so `|` is their "or"; `||` between constants makes clang warn,
+  // -Wconstant-logical-operand, on every OpenCL compiler built on it: PoCL, Intel, NVIDIA.)
+  if ((AW_FEAT_LIGHT_SUN | AW_FEAT_ENV_MAP | AW_FEAT_LIGHT_MESH) && l->type >= AW_LIGHT_SUN) return -1.0f;
   if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     // Geometric form of the quadratic, stable for far spheres: the discriminant is formed
     // from the squared distance to the ray (Haines et al. 2019, Ray Tracing Gems Ch. 7, Eq. 8).
