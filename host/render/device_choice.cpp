@@ -93,7 +93,7 @@ double measure_device_speed(int index) {
   double best = 0.0;
   for (int run = 0; run < 3; ++run) {
     RenderResult r = render_wavefront(scene, o);
-    double t = r.stats.total_seconds - r.stats.bvh_seconds - r.stats.compile_seconds;
+    double t = r.stats.path_seconds();
     if (t > 0) best = std::max(best, double(r.stats.samples) / t * 1e-6);
   }
   return best;

@@ -103,14 +103,19 @@ uint32_t begin_film(const Scene& scene, const RenderOptions& opts, const PackedS
   return first;
 }
 
+double RenderStats::path_seconds() const {
+  return std::max(0.0, total_seconds - compile_seconds - bvh_seconds - setup_seconds);
+}
+
 std::string RenderStats::summary() const {
   std::ostringstream s;
   char buf[256];
   s << "renderer        " << renderer << " on " << device << "\n";
   if (!device_choice.empty()) s << "device choice   " << device_choice << "\n";
   if (!kernel_features.empty()) s << "kernels         " << kernel_features << "\n";
-  std::snprintf(buf, sizeof buf, "time            %.3f s total (BVH %.3f s, kernel build %.3f s%s%s)\n",
-                total_seconds, bvh_seconds, compile_seconds, kernel_build.empty() ? "" : ": ", kernel_build.c_str());
+  std::snprintf(buf, sizeof buf, "time            %.3f s total (BVH %.3f s, kernel build %.3f s%s%s, setup %.3f s)\n",
+                total_seconds, bvh_seconds, compile_seconds, kernel_build.empty() ? "" : ": ", kernel_build.c_str(),
+                setup_seconds);
   s << buf;
   double traced = 0.0;
   for (const auto& st : stage_seconds) traced += st.second;
@@ -126,7 +131,7 @@ std::string RenderStats::summary() const {
     }
     s << "\n";
   }
-  double secs = std::max(1e-9, total_seconds - compile_seconds - bvh_seconds);
+  double secs = std::max(1e-9, path_seconds());
   std::snprintf(buf, sizeof buf, "rays            %llu closest + %llu shadow = %.3f Mrays/s\n",
                 (unsigned long long)closest_rays, (unsigned long long)shadow_rays,
                 double(closest_rays + shadow_rays) / secs * 1e-6);

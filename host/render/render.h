@@ -66,6 +66,11 @@ struct RenderStats {
   double total_seconds = 0.0;
   double bvh_seconds = 0.0;
   double compile_seconds = 0.0;
+  // Wavefront: packing the scene, opening the device (an OpenCL context: on a GPU driver that
+  // starts the GPU's runtime) and allocating and filling its buffers; 0 for the scalar path.
+  double setup_seconds = 0.0;
+  // The time the samples took: total less BVH, kernel build and setup (what Msamples/s divide).
+  double path_seconds() const;
   std::string kernel_build;  // how the program was had (ClRuntime::last_build), "" for the scalar path
   std::string kernel_features;  // "generic" or the specialised feature list
   std::vector<std::pair<std::string, double>> stage_seconds;  // in pipeline order

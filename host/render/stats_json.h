@@ -11,7 +11,7 @@
 namespace aw {
 
 // Every RenderStats field plus the image size, the requested and completed spp, the seed and
-// render_seconds (total minus BVH and kernel build: the time the samples took).
+// render_seconds (total minus BVH, kernel build and setup: the time the samples took).
 nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene);
 
 // Writes stats_to_json to `path` (pretty-printed); throws OutputError when it cannot.

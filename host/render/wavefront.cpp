@@ -117,8 +117,10 @@ class Wavefront {
     build_bvh();
     build_program();
     try {
+      auto t_setup = Clock::now();
       allocate();
       bind();
+      st_.setup_seconds += since(t_setup);
       warm_up();
     } catch (const cl::Error& e) {
       throw ClError(error_text(e));
@@ -600,7 +602,9 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   auto t_start = Clock::now();
   RenderResult res;
   res.stats.renderer = "wavefront";
-  Wavefront(scene, opts, res).render();
+  Wavefront w(scene, opts, res);  // packs the scene and opens the device
+  res.stats.setup_seconds = since(t_start);
+  w.render();
   res.stats.total_seconds = since(t_start);
   return res;
 }

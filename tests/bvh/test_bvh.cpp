@@ -872,8 +872,9 @@ TEST_F(BvhVsEmbree, InstancesMatchEmbreeAndFlattened) {
   EXPECT_EQ(cracks, 0u);
   EXPECT_EQ(wrong_inst, 0u);
   // Bit for bit where division is correctly rounded (see CppAndOpenClBuildsAreBitIdentical).
-  if (cl_->info().type == "CPU" || cl_->info().correctly_rounded_divide_sqrt)
+  if (cl_->info().type == "CPU" || cl_->info().correctly_rounded_divide_sqrt) {
     EXPECT_EQ(same_cl, n) << "C++ and OpenCL builds differ on " << cl_->info().name;
+  }
   // Other triangles only at shared edges (rays that last-bit rounding sends to the neighbour),
   // measured 0.003-0.004%; the bound is 0.1%. Distances agree to 1e-4 (absolute below t = 1:
   // a hit 0.003 from its origin on a wall 10 away is known to the wall's float ulp, 1e-6).
