@@ -50,10 +50,7 @@ int main(int argc, char** argv) {
     aw::RenderResult w0 = aw::render_wavefront(warm, o);  // compile (or load from cache)
     aw::RenderResult w = aw::render_wavefront(scene, o);
     aw::RenderResult s = aw::render_scalar(scene, o);
-    auto render_secs = [](const aw::RenderResult& r) {
-      return r.stats.total_seconds - r.stats.compile_seconds - r.stats.bvh_seconds;
-    };
-    double tw = render_secs(w), ts = render_secs(s);
+    double tw = w.stats.path_seconds(), ts = s.stats.path_seconds();
     std::ostringstream t;
     t << "Scene `" << scene_path.substr(scene_path.find_last_of('/') + 1) << "`, " << width << "x" << height << ", "
       << spp << " spp. Machine: " << cpu_model() << ", " << std::thread::hardware_concurrency()

@@ -713,8 +713,11 @@ TEST_F(BvhVsEmbree, HeightfieldSharedEdgesAndVertices) { check_scene(heightfield
 // (device_build_options), they must agree to the bit, closest and any hit. The kernel-vs-scalar
 // renderer comparison relies on it (docs/design.md, principle 3). A GPU that does not offer it
 // may divide to 2.5 ulp; there only the criteria of the tests above apply.
+// Whether `d` computes the traversal's arithmetic as the host does, bit for bit.
+bool divides_as_host(const aw::DeviceInfo& d) { return d.type == "CPU" || d.correctly_rounded_divide_sqrt; }
+
 TEST_F(BvhVsEmbree, CppAndOpenClBuildsAreBitIdentical) {
-  if (cl_->info().type != "CPU" && !cl_->info().correctly_rounded_divide_sqrt)
+  if (!divides_as_host(cl_->info()))
     GTEST_SKIP() << "the device neither is a CPU nor offers correctly rounded division: " << cl_->info().name;
   uint32_t seed = 44;
   for (const TestScene& sc : {random_soup_scene(), sphere_room_scene(), heightfield_scene()}) {
@@ -872,7 +875,7 @@ TEST_F(BvhVsEmbree, InstancesMatchEmbreeAndFlattened) {
   EXPECT_EQ(cracks, 0u);
   EXPECT_EQ(wrong_inst, 0u);
   // Bit for bit where division is correctly rounded (see CppAndOpenClBuildsAreBitIdentical).
-  if (cl_->info().type == "CPU" || cl_->info().correctly_rounded_divide_sqrt) {
+  if (divides_as_host(cl_->info())) {
     EXPECT_EQ(same_cl, n) << "C++ and OpenCL builds differ on " << cl_->info().name;
   }
   // Other triangles only at shared edges (rays that last-bit rounding sends to the neighbour),
