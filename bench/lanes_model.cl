@@ -17,10 +17,16 @@
 // material system's generality. Both widths run this same model, so their ratio is what lanes
 // gain on this kind of work (docs/performance.md compares the renderer's own stage).
 //
+// As C++ (bench_lanes.cpp includes this file at W = 1 after a few definitions of OpenCL C's
+// names), the same functions run on the host: the third instantiation a lane design needs
+// (the host's scalar path), compared bit for bit with the device's.
+//
 // -DCONTIG=1: the queue is known to be slot order (a dense launch), so the state's fields are
 // read with vector loads and written with a masked read-modify-write instead of per-lane
 // gathers and scatters; the table is still gathered per lane.
+#ifdef __OPENCL_C_VERSION__
 #pragma OPENCL FP_CONTRACT OFF
+#endif
 #ifndef W
 #define W 16
 #endif
