@@ -35,6 +35,7 @@
 
 #include "common/compat.h"
 #include "common/features.h"
+#include "common/lanes.h"
 
 // Dimensions used at each bounce. Every consumer owns a fixed slot; a 2D sample uses two
 // outputs of one hash, so dimension numbers name hashes, not floats.
@@ -88,7 +89,7 @@ AW_FN Sampler sampler_for_image(uint kind, uint seed, uint width, uint height, u
 // pcg4d: Jarzynski & Olano 2020, "Hash Functions for GPU Rendering", JCGT 9(3), Sec. 3.
 // Chosen over a 1D hash chain because it mixes four independent inputs in one pass and
 // passed their TestU01 BigCrush battery as a 4D->4D hash.
-AW_FN void pcg4d(uint* v) {
+AW_FN void pcg4d(luint* v) {
   v[0] = v[0] * 1664525u + 1013904223u;
   v[1] = v[1] * 1664525u + 1013904223u;
   v[2] = v[2] * 1664525u + 1013904223u;
@@ -108,21 +109,21 @@ AW_FN void pcg4d(uint* v) {
 }
 
 // The top 24 bits as a float in [0, 1): exact on both sides (integer ops, one exact scale).
-AW_FN float rng_to_unit(uint x) { return (float)(x >> 8) * (1.0f / 16777216.0f); }
+AW_FN lfloat rng_to_unit(luint x) { return L_TO_FLOAT(x >> 8) * (1.0f / 16777216.0f); }
 
-AW_FN float2 rng_independent_2d(uint seed, uint pixel, uint sample, uint bounce, uint dim) {
-  uint v[4];
+AW_FN lfloat2 rng_independent_2d(uint seed, luint pixel, luint sample, luint bounce, uint dim) {
+  luint v[4];
   v[0] = pixel;
   v[1] = sample;
   v[2] = (bounce << 8) | dim;
   v[3] = seed;
   pcg4d(v);
-  return make_float2(rng_to_unit(v[0]), rng_to_unit(v[1]));
+  return make_lfloat2(rng_to_unit(v[0]), rng_to_unit(v[1]));
 }
 
 /* ------------------------------ Owen-scrambled Sobol' ------------------------------------ */
 
-AW_FN uint reverse_bits32(uint x) {
+AW_FN luint reverse_bits32(luint x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
@@ -138,8 +139,8 @@ AW_FN uint reverse_bits32(uint x) {
 // is with r a bit-subset of c (Lucas' theorem). That superset XOR over the 32 bit positions
 // takes five shift-and-mask steps instead of a loop over the index bits (sobol_superset_xor,
 // digit r at bit r; the fraction is its mirror image).
-AW_FN uint sobol_dim0(uint i) { return reverse_bits32(i); }
-AW_FN uint sobol_superset_xor(uint z) {
+AW_FN luint sobol_dim0(luint i) { return reverse_bits32(i); }
+AW_FN luint sobol_superset_xor(luint z) {
   z ^= (z >> 1) & 0x55555555u;
   z ^= (z >> 2) & 0x33333333u;
   z ^= (z >> 4) & 0x0f0f0f0fu;
@@ -147,13 +148,13 @@ AW_FN uint sobol_superset_xor(uint z) {
   z ^= (z >> 16) & 0x0000ffffu;
   return z;
 }
-AW_FN uint sobol_dim1(uint i) { return reverse_bits32(sobol_superset_xor(i)); }
+AW_FN luint sobol_dim1(luint i) { return reverse_bits32(sobol_superset_xor(i)); }
 
 // Laine & Karras' permutation as improved by Burley 2020 (Sec. 3): every output bit is the
 // input bit XOR a function of the lower bits only (additions and multiplications by even
 // constants carry upwards), which is what a nested uniform (Owen) scramble does when applied
 // to the bit-reversed number.
-AW_FN uint laine_karras_permutation(uint x, uint seed) {
+AW_FN luint laine_karras_permutation(luint x, luint seed) {
   x += seed;
   x ^= x * 0x6c50b47cu;
   x ^= x * 0xb82f1e52u;
@@ -164,12 +165,12 @@ AW_FN uint laine_karras_permutation(uint x, uint seed) {
 
 // Owen scrambling in base 2 of a 32-bit fraction (first digit = the top bit); applied to a
 // sample index it is the shuffle (Burley 2020, Sec. 4).
-AW_FN uint nested_uniform_scramble(uint x, uint seed) {
+AW_FN luint nested_uniform_scramble(luint x, luint seed) {
   return reverse_bits32(laine_karras_permutation(reverse_bits32(x), seed));
 }
 
 // The seeds of one padded set: the index shuffle and one scramble per coordinate.
-AW_FN void sobol_set_seeds(uint seed, uint pixel, uint bounce, uint dim, uint* s) {
+AW_FN void sobol_set_seeds(uint seed, luint pixel, luint bounce, uint dim, luint* s) {
   s[0] = pixel;
   s[1] = (bounce << 8) | dim;
   s[2] = seed;
@@ -181,30 +182,35 @@ AW_FN void sobol_set_seeds(uint seed, uint pixel, uint bounce, uint dim, uint* s
 // nested_uniform_scramble(sample), and scrambling a Sobol' coordinate mirrors it, permutes and
 // mirrors back; since dimension 0 is the mirrored index and dimension 1 the mirrored superset
 // XOR, the mirrors in between cancel (the same numbers as scrambling sobol_dim0/1(index)).
-AW_FN float2 rng_sobol_2d(uint seed, uint pixel, uint sample, uint bounce, uint dim) {
-  uint s[4];
+AW_FN lfloat2 rng_sobol_2d(uint seed, luint pixel, luint sample, luint bounce, uint dim) {
+  luint s[4];
   sobol_set_seeds(seed, pixel, bounce, dim, s);
-  uint i = nested_uniform_scramble(sample, s[0]);
-  uint x = reverse_bits32(laine_karras_permutation(i, s[1]));
-  uint y = reverse_bits32(laine_karras_permutation(sobol_superset_xor(i), s[2]));
-  return make_float2(rng_to_unit(x), rng_to_unit(y));
+  luint i = nested_uniform_scramble(sample, s[0]);
+  luint x = reverse_bits32(laine_karras_permutation(i, s[1]));
+  luint y = reverse_bits32(laine_karras_permutation(sobol_superset_xor(i), s[2]));
+  return make_lfloat2(rng_to_unit(x), rng_to_unit(y));
 }
 
-AW_FN float rng_sobol_1d(uint seed, uint pixel, uint sample, uint bounce, uint dim) {
-  uint s[4];
+AW_FN lfloat rng_sobol_1d(uint seed, luint pixel, luint sample, luint bounce, uint dim) {
+  luint s[4];
   sobol_set_seeds(seed, pixel, bounce, dim, s);
-  uint i = nested_uniform_scramble(sample, s[0]);
+  luint i = nested_uniform_scramble(sample, s[0]);
   return rng_to_unit(reverse_bits32(laine_karras_permutation(i, s[1])));
 }
 
 /* ------------------------------ Z-ordered (blue-noise) Sobol' ---------------------------- */
 
+// Not written on lanes yet beyond pcg_hash (its index is 64-bit and its digit permutation a
+// table lookup): one path per call only. A lane program (AW_LANES > 1) has Sobol' and the independent
+// sampler; nothing builds one for a zsobol render (common/lanes.h).
 // pcg: Jarzynski & Olano 2020 (JCGT 9(3), Sec. 3): their recommended 1-D 32-bit hash.
-AW_FN uint pcg_hash(uint v) {
-  uint state = v * 747796405u + 2891336453u;
-  uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+AW_FN luint pcg_hash(luint v) {
+  luint state = v * 747796405u + 2891336453u;
+  luint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
   return (word >> 22u) ^ word;
 }
+
+#if AW_LANES == 1
 
 // Digit d (0..3) through the p-th (0..23) of the 24 permutations of {0, 1, 2, 3}, in
 // lexicographic order: permutation p is byte p of the table, entry d at bits 2d..2d+1.
@@ -297,22 +303,30 @@ AW_FN float rng_zsobol_1d(Sampler s, uint pixel, uint sample, uint bounce, uint 
   return rng_to_unit(reverse_bits32(laine_karras_permutation(lo, k[1])));
 }
 
+#endif  // AW_LANES == 1
+
 /* ------------------------------------ the interface -------------------------------------- */
 
 // A build has only the samplers its scene uses (common/features.h: Sobol' always; the host
-// refuses a render whose sampler the build lacks, host/render/wavefront.cpp).
-AW_FN float2 rng_2d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
+// refuses a render whose sampler the build lacks, host/render/wavefront.cpp). Written on lanes
+// (common/lanes.h): one path per call at AW_LANES = 1, W paths (each its own pixel, sample and
+// bounce) at AW_LANES = W; the sampler, seed and dimension are the same for all of them.
+AW_FN lfloat2 rng_2d(Sampler s, luint pixel, luint sample, luint bounce, uint dim) {
   if (AW_FEAT_SAMPLER_INDEPENDENT && s.kind == AW_SAMPLER_INDEPENDENT)
     return rng_independent_2d(s.seed, pixel, sample, bounce, dim);
+#if AW_LANES == 1
   if (AW_FEAT_SAMPLER_ZSOBOL && s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_2d(s, pixel, sample, bounce, dim);
+#endif
   return rng_sobol_2d(s.seed, pixel, sample, bounce, dim);
 }
 
 // The first coordinate of the 2-D set (the same number rng_2d(...).x gives).
-AW_FN float rng_1d(Sampler s, uint pixel, uint sample, uint bounce, uint dim) {
+AW_FN lfloat rng_1d(Sampler s, luint pixel, luint sample, luint bounce, uint dim) {
   if (AW_FEAT_SAMPLER_INDEPENDENT && s.kind == AW_SAMPLER_INDEPENDENT)
     return rng_independent_2d(s.seed, pixel, sample, bounce, dim).x;
+#if AW_LANES == 1
   if (AW_FEAT_SAMPLER_ZSOBOL && s.kind == AW_SAMPLER_ZSOBOL) return rng_zsobol_1d(s, pixel, sample, bounce, dim);
+#endif
   return rng_sobol_1d(s.seed, pixel, sample, bounce, dim);
 }
 
