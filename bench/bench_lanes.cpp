@@ -9,7 +9,9 @@
 //                and scattered through a queue of slots), 2^18 paths (archwave's CPU pool),
 //                the queue in slot order (state read with vector loads, or per lane) or
 //                shuffled (per lane: the scattered order that queue appends leave);
-//   compact_model the shuffled queue's paths (all 30 state words) copied into slot order.
+//   compact_model the shuffled queue's paths (all 30 state words) copied into slot order;
+//   sampler_sum  the renderer's own Sobol' sampler (kernels/common/rng.h, written on lanes),
+//                64 2-D samples per path, 2^20 paths, against the host's C++ build of it.
 // Every width must produce the same bits as W = 1 for every output (the lanes compute each
 // path exactly as one work-item does), and W = 1 the same bits as the same source compiled as
 // C++ on the host; the bench says so per row and exits 1 otherwise.
@@ -29,6 +31,8 @@
 #include <vector>
 
 #include "host/cl/cl_runtime.h"
+#include "host/cl/kernel_source.h"
+#include "kernels/common/rng.h"
 
 // The model compiled as C++ at W = 1: OpenCL C's names it uses, with OpenCL's meaning.
 namespace host_model {
@@ -54,6 +58,12 @@ using std::fabs;
 using std::fmax;
 using std::fmin;
 using std::sqrt;
+// The model has its own small lane layer (its names predate common/lanes.h, which the sampler
+// above brought in): its macros replace those of the same names here.
+#undef L_SEL
+#undef L_ANY
+#undef L_LOAD
+#undef L_STORE
 #define W 1
 #include "bench/lanes_model.cl"
 #undef W
@@ -62,6 +72,22 @@ using std::sqrt;
 }  // namespace host_model
 
 namespace {
+
+// The renderer's own Sobol' sampler (kernels/common/rng.h, written on lanes): `iters` 2-D
+// samples per path (sample index k, bounce k & 7, the BSDF dimension), summed per path.
+const char* kSamplerKernel = R"CL(
+__kernel void sampler_sum(__global const uint* pixels, __global float* out, uint iters, uint seed) {
+  uint g = get_global_id(0);
+  luint pixel = L_LOAD(pixels, g);
+  Sampler smp = sampler_make(AW_SAMPLER_SOBOL, seed, 0u, 0u, 0u);
+  lfloat acc = (lfloat)(0.0f);
+  for (uint k = 0u; k < iters; ++k) {
+    lfloat2 u = rng_2d(smp, pixel, (luint)(k), (luint)(k & 7u), AW_DIM_BSDF);
+    acc += u.x + u.y;
+  }
+  L_STORE(acc, out, g);
+}
+)CL";
 
 constexpr unsigned kFields = 25, kUFields = 5;
 
@@ -190,6 +216,7 @@ int main(int argc, char** argv) {
       for (const auto& s : opt.devices) chosen.push_back(aw::resolve_device(s, all));
     }
     const std::string source = read_text(std::string(ARCHWAVE_SOURCE_DIR) + "/bench/lanes_model.cl");
+    const std::string rng_source = aw::assemble_kernel_source("common/rng.h", aw::default_kernel_dir());
     const uint32_t n_arith = 1u << 20, pool = 1u << 18;
     const int iters = 64;
     ShadeInput in = make_shade_input(pool);
@@ -206,6 +233,21 @@ int main(int argc, char** argv) {
       host_model::g_global_id = k;
       host_model::arith(host_x.data(), host_y.data(), host_z.data(), iters);
     }
+    std::vector<uint32_t> sampler_pixels(n_arith);
+    std::vector<float> host_sums(n_arith);
+    {
+      std::mt19937 prng(99);
+      Sampler smp = sampler_make(AW_SAMPLER_SOBOL, 7u, 0u, 0u, 0u);
+      for (uint32_t k = 0; k < n_arith; ++k) {
+        sampler_pixels[k] = uint32_t(prng() % 4000000u);
+        float acc = 0.0f;
+        for (uint32_t j = 0; j < uint32_t(iters); ++j) {
+          float2 u = rng_2d(smp, sampler_pixels[k], j, j & 7u, AW_DIM_BSDF);
+          acc += u.x + u.y;
+        }
+        host_sums[k] = acc;
+      }
+    }
     std::vector<float> host_sf[2];
     std::vector<uint32_t> host_su[2], host_q[2];
     for (int o = 0; o < 2; ++o) {  // 0: slot order, 1: shuffled
@@ -221,9 +263,9 @@ int main(int argc, char** argv) {
     }
 
     std::ostringstream table;
-    table << "| device | W | arith (G iterations/s) | shade, slot order, vector loads (M paths/s) | "
+    table << "| device | W | arith (G iterations/s) | renderer's Sobol' sampler (M 2-D samples/s) | shade, slot order, vector loads (M paths/s) | "
              "shade, slot order, per-lane loads | shade, shuffled queue | compaction (M paths/s) | "
-             "bits equal (W = 1: to the C++ build; W > 1: to W = 1) |\n|---|---:|---:|---:|---:|---:|---:|---|\n";
+             "bits equal (W = 1: to the C++ build; W > 1: to W = 1) |\n|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
     bool all_equal = true;
     for (int dev : chosen) {
       aw::ClRuntime rt(dev);
@@ -246,6 +288,17 @@ int main(int argc, char** argv) {
         bool equal = true;
         if (w == 1) ref_arith = out_x;
         equal = std::memcmp((w == 1 ? host_x : ref_arith).data(), out_x.data(), n_arith * 4) == 0;
+        // the renderer's sampler
+        cl::Program prog_s = rt.build("#define AW_LANES " + std::to_string(w) + "\n" + rng_source + kSamplerKernel, "");
+        cl::Buffer bpix = rt.buffer("pixels", n_arith * 4, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                                    const_cast<uint32_t*>(sampler_pixels.data()));
+        cl::Buffer bsum = rt.buffer("sums", n_arith * 4);
+        cl::Kernel kr(prog_s, "sampler_sum");
+        set_args(kr, bpix, bsum, uint32_t(iters), 7u);
+        double t_sampler = time_kernel(q, kr, n_arith / w, opt.reps, [] {});
+        std::vector<float> sums(n_arith);
+        q.enqueueReadBuffer(bsum, CL_TRUE, 0, n_arith * 4, sums.data());
+        equal = equal && std::memcmp(host_sums.data(), sums.data(), n_arith * 4) == 0;
         // shade_model, dense and queued
         // order 0: slot order, vector loads (CONTIG); 1: slot order, per-lane access; 2: shuffled.
         double shade_rate[3];
@@ -301,8 +354,8 @@ int main(int argc, char** argv) {
         }
         all_equal = all_equal && equal;
         char row[256];
-        std::snprintf(row, sizeof row, "| %s | %d | %.3f | %.1f | %.1f | %.1f | %.1f | %s |\n", dev_name.c_str(), w,
-                      double(n_arith) * iters / t_arith / 1e9, shade_rate[0], shade_rate[1], shade_rate[2], compact_rate,
+        std::snprintf(row, sizeof row, "| %s | %d | %.3f | %.1f | %.1f | %.1f | %.1f | %.1f | %s |\n", dev_name.c_str(), w,
+                      double(n_arith) * iters / t_arith / 1e9, double(n_arith) * iters / t_sampler / 1e6, shade_rate[0], shade_rate[1], shade_rate[2], compact_rate,
                       equal ? "yes" : "NO");
         table << row;
         std::fputs(row, stderr);
