@@ -12,11 +12,14 @@
 // - a comparison is 0/1 on a scalar and 0/-1 per lane on a vector, so a choice per path is
 //   L_SEL(mask, a, b) (m ? a : b), never `if` on a lane value;
 // - any()/all() exist only for vectors (L_ANY, L_ALL);
-// - int -> float conversion is a cast on a scalar and convert_floatW on a vector (L_TO_FLOAT);
+// - conversions are casts on a scalar and convert_floatW/convert_intW on a vector (L_TO_FLOAT,
+//   L_TO_INT), bit reinterpretations as_int/as_float and as_intW/as_floatW (L_AS_INT, L_AS_FLOAT);
 // - loads and stores of W consecutive words are vloadW/vstoreW (L_LOAD, L_STORE).
 // A program is built at one width (-DAW_LANES=16); a lane program and a scalar program built
 // from the same headers are two programs, so no name is instantiated twice.
-// Which shared code is written on lanes so far: the samplers of common/rng.h.
+// Which shared code is written on lanes so far (docs/design.md): the samplers of
+// common/rng.h, the warps, frames and MIS weight of common/sampling.h, and the robust ray
+// origins of common/ray.h, the lobe contract (lobes/lobe.h) and the diffuse lobe (lobes/diffuse.h).
 #ifndef AW_COMMON_LANES_H
 #define AW_COMMON_LANES_H
 
@@ -33,36 +36,99 @@
 typedef float lfloat;
 typedef uint luint;
 typedef int lmask;  // a comparison's result (0 or 1)
+typedef int lint;
 typedef float2 lfloat2;
+typedef float3 lfloat3;
 #define make_lfloat2(x, y) make_float2((x), (y))
+#define make_lfloat3(x, y, z) make_float3((x), (y), (z))
 #define L_SEL(m, a, b) ((m) ? (a) : (b))
 #define L_ANY(m) ((m) != 0)
 #define L_ALL(m) ((m) != 0)
 #define L_TO_FLOAT(x) ((float)(x))
+#define L_TO_INT(x) ((int)(x))
+#define L_AS_INT(x) as_int(x)
+#define L_AS_FLOAT(i) as_float_i(i)
 #define L_LOAD(p, i) ((p)[i])
 #define L_STORE(v, p, i) ((p)[i] = (v))
 #elif AW_DEVICE && (AW_LANES == 8 || AW_LANES == 16)
 typedef AW_LCAT(float, AW_LANES) lfloat;
 typedef AW_LCAT(uint, AW_LANES) luint;
 typedef AW_LCAT(int, AW_LANES) lmask;  // a comparison's result (0 or -1 per lane)
-// Two lane floats (a 2-D sample of W paths): x and y are each one vector.
+typedef AW_LCAT(int, AW_LANES) lint;
+// Two and three lane floats (a 2-D sample, a direction of W paths): each coordinate is one
+// vector.
 typedef struct {
   lfloat x, y;
 } lfloat2;
+typedef struct {
+  lfloat x, y, z;
+} lfloat3;
 AW_FN lfloat2 make_lfloat2(lfloat x, lfloat y) {
   lfloat2 r;
   r.x = x;
   r.y = y;
   return r;
 }
+AW_FN lfloat3 make_lfloat3(lfloat x, lfloat y, lfloat z) {
+  lfloat3 r;
+  r.x = x;
+  r.y = y;
+  r.z = z;
+  return r;
+}
 #define L_SEL(m, a, b) select((b), (a), (m))  // select's own order is (b, a, m)
 #define L_ANY(m) any(m)
 #define L_ALL(m) all(m)
 #define L_TO_FLOAT(x) AW_LCAT(convert_float, AW_LANES)(x)
+#define L_TO_INT(x) AW_LCAT(convert_int, AW_LANES)(x)
+#define L_AS_INT(x) AW_LCAT(as_int, AW_LANES)(x)
+#define L_AS_FLOAT(i) AW_LCAT(as_float, AW_LANES)(i)
 #define L_LOAD(p, i) AW_LCAT(vload, AW_LANES)((i), (p))
 #define L_STORE(v, p, i) AW_LCAT(vstore, AW_LANES)((v), (i), (p))
 #else
 #error "AW_LANES must be 1, or 8 or 16 in OpenCL C"
 #endif
+
+// 3-vector arithmetic on lanes. At W = 1 these are float3's own operators and dot(), so code
+// written with them is the float3 code it replaces; at W > 1 each coordinate is one vector
+// operation, in the same order (dot: (x + y) + z, as glm's and PoCL's).
+#if AW_LANES == 1
+AW_FN lfloat3 l3_add(lfloat3 a, lfloat3 b) { return a + b; }
+AW_FN lfloat3 l3_sub(lfloat3 a, lfloat3 b) { return a - b; }
+AW_FN lfloat3 l3_mul(lfloat3 a, lfloat3 b) { return a * b; }
+AW_FN lfloat3 l3_scale(lfloat3 a, lfloat s) { return a * s; }
+AW_FN lfloat l3_dot(lfloat3 a, lfloat3 b) { return dot(a, b); }
+AW_FN lfloat3 l3_div(lfloat3 a, lfloat s) { return a / s; }
+AW_FN lfloat3 l3_fmax(lfloat3 a, lfloat3 b) { return fmax(a, b); }
+AW_FN lfloat3 l3_sel(lmask m, lfloat3 a, lfloat3 b) { return m ? a : b; }
+#else
+AW_FN lfloat3 l3_add(lfloat3 a, lfloat3 b) { return make_lfloat3(a.x + b.x, a.y + b.y, a.z + b.z); }
+AW_FN lfloat3 l3_sub(lfloat3 a, lfloat3 b) { return make_lfloat3(a.x - b.x, a.y - b.y, a.z - b.z); }
+AW_FN lfloat3 l3_mul(lfloat3 a, lfloat3 b) { return make_lfloat3(a.x * b.x, a.y * b.y, a.z * b.z); }
+AW_FN lfloat3 l3_scale(lfloat3 a, lfloat s) { return make_lfloat3(a.x * s, a.y * s, a.z * s); }
+AW_FN lfloat l3_dot(lfloat3 a, lfloat3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+AW_FN lfloat3 l3_div(lfloat3 a, lfloat s) { return make_lfloat3(a.x / s, a.y / s, a.z / s); }
+AW_FN lfloat3 l3_fmax(lfloat3 a, lfloat3 b) { return make_lfloat3(fmax(a.x, b.x), fmax(a.y, b.y), fmax(a.z, b.z)); }
+AW_FN lfloat3 l3_sel(lmask m, lfloat3 a, lfloat3 b) {
+  return make_lfloat3(L_SEL(m, a.x, b.x), L_SEL(m, a.y, b.y), L_SEL(m, a.z, b.z));
+}
+#endif
+AW_FN lfloat l_safe_sqrt(lfloat x) { return sqrt(fmax(x, (lfloat)(0.0f))); }
+
+// arccos of x in [-1, 1], by Cephes' single-precision acosf (S. L. Moshier 1989, "Methods and
+// Programs for Mathematical Functions", Cephes Math Library: asinf.c): asin's minimax
+// polynomial on [-1/2, 1/2], and acos x = 2 asin(sqrt((1 - |x|) / 2)) beyond (pi minus that
+// below -1/2). Why not acos(): PoCL's acos for float16 and for float round differently (an ulp,
+// DiffuseLanes.* found it), and so do the host's and the device's libraries; these few
+// operations round the same at every width and on every side. Error against double precision:
+// tests/lobes/test_diffuse.cpp (LaneMath.AcosIsCephesAccurate).
+AW_FN lfloat l_acos(lfloat x) {
+  lmask below = x < -0.5f, above = x > 0.5f;
+  lfloat y = L_SEL(below || above, sqrt(0.5f * (1.0f - fabs(x))), x);
+  lfloat z = y * y;
+  lfloat a = y + y * z * ((((4.2163199048e-2f * z + 2.4181311049e-2f) * z + 4.5470025998e-2f) * z + 7.4953002686e-2f) * z +
+                          1.6666752422e-1f);  // asin y
+  return L_SEL(below, M_PI_F - 2.0f * a, L_SEL(above, 2.0f * a, (M_PI_F / 2.0f) - a));
+}
 
 #endif

@@ -3,6 +3,7 @@
 #define AW_COMMON_RAY_H
 
 #include "common/compat.h"
+#include "common/lanes.h"
 
 // gamma(n) = n u / (1 - n u), u = 2^-24 the unit roundoff of round-to-nearest floats: the
 // bound on the relative error of n chained roundings (Higham 2002, "Accuracy and Stability
@@ -26,11 +27,12 @@ AW_FN float aw_gamma(float n) { return n * AW_ROUNDOFF / (1.0f - n * AW_ROUNDOFF
 
 // One float further from `x` in the direction of the sign of `s` (0: x itself); from zero, the
 // smallest normal float, not a denormal, which devices may flush back to zero.
-AW_FN float aw_float_step(float x, float s) {
-  if (s == 0.0f) return x;
-  if (x == 0.0f) return copysign(1.17549435e-38f, s);
-  int up = (x > 0.0f) == (s > 0.0f);  // away from zero
-  return as_float_i(as_int(x) + (up ? 1 : -1));
+// (On lanes, common/lanes.h: every case computed, the path's own selected.)
+AW_FN lfloat aw_float_step(lfloat x, lfloat s) {
+  lmask up = (x > 0.0f) == (s > 0.0f);  // away from zero
+  lfloat stepped = L_AS_FLOAT(L_AS_INT(x) + L_SEL(up, (lint)(1), (lint)(-1)));
+  lfloat from_zero = copysign((lfloat)(1.17549435e-38f), s);
+  return L_SEL(s == 0.0f, x, L_SEL(x == 0.0f, from_zero, stepped));
 }
 
 // The origin of a ray that leaves a surface point p along the side `n` (a unit normal facing
@@ -43,9 +45,9 @@ AW_FN float aw_float_step(float x, float s) {
 // Wächter & Binder's fixed-scale integer offsets (Ray Tracing Gems ch. 6), whose 1/65536 near
 // the origin was 30% of a sphere's radius in a scene scaled by 1e-4, and whose 256 ulps were 2
 // units at 1e5 from the origin.
-AW_FN float3 offset_ray_origin(float3 p, float3 n, float err) {
-  float3 o = p + n * err;
-  return make_float3(aw_float_step(o.x, n.x), aw_float_step(o.y, n.y), aw_float_step(o.z, n.z));
+AW_FN lfloat3 offset_ray_origin(lfloat3 p, lfloat3 n, lfloat err) {
+  lfloat3 o = l3_add(p, l3_scale(n, err));
+  return make_lfloat3(aw_float_step(o.x, n.x), aw_float_step(o.y, n.y), aw_float_step(o.z, n.z));
 }
 
 // The bound `err` for offset_ray_origin at a triangle hit p = b0 p0 + b1 p1 + b2 p2 as

@@ -45,88 +45,101 @@
 
 // G(mu) of the FON directional albedo (item 2 above), for mu in [0, 1]; G(1) = 0 and
 // G(0) = pi/2 - 2/3 = pi c1 (so E_F(0) = 1).
-AW_FN float eon_g(float mu) {
+AW_FN lfloat eon_g(lfloat mu) {
   mu = clamp(mu, 0.0f, 1.0f);
-  float s = safe_sqrt(1.0f - mu * mu);
-  float s_over_mu_term = s * mu * (1.0f + s + s * s) / (1.0f + s);  // (S/mu)(1 - S^3)
-  return s * (acos(mu) - s * mu) + (2.0f / 3.0f) * (s_over_mu_term - s);
+  lfloat s = l_safe_sqrt(1.0f - mu * mu);
+  lfloat s_over_mu_term = s * mu * (1.0f + s + s * s) / (1.0f + s);  // (S/mu)(1 - S^3)
+  return s * (l_acos(mu) - s * mu) + (2.0f / 3.0f) * (s_over_mu_term - s);
 }
 
 // (1 - E_F(mu)) / (sigma A_F) = c1 - G(mu)/pi >= 0 (item 2, without cancellation in sigma).
-AW_FN float eon_one_minus_ef_scaled(float mu) { return fmax(AW_EON_C1 - eon_g(mu) * (1.0f / M_PI_F), 0.0f); }
+AW_FN lfloat eon_one_minus_ef_scaled(lfloat mu) {
+  return fmax(AW_EON_C1 - eon_g(mu) * (1.0f / M_PI_F), (lfloat)(0.0f));
+}
 
 // rho_ms (item 3) for one channel, sigma > 0. The denominator is >= E_avg > 0.8 for rho <= 1;
 // the floor only keeps out-of-range albedos (> 6) from dividing by zero.
-AW_FN float eon_rho_ms(float rho, float e_avg, float one_minus_e_avg) {
-  return rho * rho * e_avg / fmax(1.0f - rho * one_minus_e_avg, 1e-6f);
+AW_FN lfloat eon_rho_ms(lfloat rho, lfloat e_avg, lfloat one_minus_e_avg) {
+  return rho * rho * e_avg / fmax(1.0f - rho * one_minus_e_avg, (lfloat)(1e-6f));
 }
 
-AW_FN float3 eon_rho_ms3(float3 rho, float e_avg, float one_minus_e_avg) {
-  return make_float3(eon_rho_ms(rho.x, e_avg, one_minus_e_avg), eon_rho_ms(rho.y, e_avg, one_minus_e_avg),
-                     eon_rho_ms(rho.z, e_avg, one_minus_e_avg));
+AW_FN lfloat3 eon_rho_ms3(lfloat3 rho, lfloat e_avg, lfloat one_minus_e_avg) {
+  return make_lfloat3(eon_rho_ms(rho.x, e_avg, one_minus_e_avg), eon_rho_ms(rho.y, e_avg, one_minus_e_avg),
+                      eon_rho_ms(rho.z, e_avg, one_minus_e_avg));
 }
 
-// f * cos theta_i.
-AW_FN float3 lobe_diffuse_eval(float3 albedo, float roughness, float3 wo, float3 wi) {
-  if (wo.z <= 0.0f || wi.z <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
-  if (roughness == 0.0f) return albedo * (wi.z * (1.0f / M_PI_F));  // Lambert, unchanged
-  float sigma = clamp(roughness, 0.0f, 1.0f);
-  float mu_i = fmin(wi.z, 1.0f), mu_o = fmin(wo.z, 1.0f);
-  float a_f = 1.0f / (1.0f + AW_EON_C1 * sigma);
-  // Item 1 times cos theta_i: f_ss mu_i = (rho/pi) A_F (mu_i + sigma s mu_i / t). Written with
-  // mu_i / t <= 1 (t = max(mu_i, mu_o) when s > 0) it stays bounded by (rho/pi) A_F
-  // (mu_i + sigma) even where s / t alone grows without bound (both directions grazing).
-  float s = dot(wi, wo) - mu_i * mu_o;
-  float s_mu_over_t = s > 0.0f ? s * (mu_i / fmax(mu_i, mu_o)) : s * mu_i;
-  float ss = a_f * (1.0f / M_PI_F) * (mu_i + sigma * s_mu_over_t);
-  // Item 3 with item 2's cancellation-free forms: the common sigma A_F factors give
-  //   f_ms = (rho_ms / pi) sigma A_F (c1 - G_o/pi)(c1 - G_i/pi) / (c1 - c2).
-  float e_avg = a_f * (1.0f + AW_EON_C2 * sigma);
-  float one_minus_e_avg = sigma * a_f * (AW_EON_C1 - AW_EON_C2);
-  float ms = sigma * a_f * eon_one_minus_ef_scaled(mu_o) * eon_one_minus_ef_scaled(mu_i) /
-             (AW_EON_C1 - AW_EON_C2) * (1.0f / M_PI_F) * mu_i;
-  float3 rho_ms = eon_rho_ms3(albedo, e_avg, one_minus_e_avg);
-  // 1 + sigma s/t >= 0 (s/t >= -1, sigma <= 1), so only rounding could make this negative.
-  return fmax(albedo * ss + rho_ms * ms, make_float3(0.0f, 0.0f, 0.0f));
+// f * cos theta_i. On lanes (common/lanes.h): Lambert for every path, EON computed only when
+// some path is rough (at W = 1: only for a rough path, as a branch) and selected for those.
+AW_FN lfloat3 lobe_diffuse_eval(lfloat3 albedo, lfloat roughness, lfloat3 wo, lfloat3 wi) {
+  lmask none = wo.z <= 0.0f || wi.z <= 0.0f;
+  lmask rough = roughness != 0.0f;
+  lfloat3 r = l3_scale(albedo, wi.z * (1.0f / M_PI_F));  // Lambert, unchanged
+  if (L_ANY(rough && !none)) {
+    lfloat sigma = clamp(roughness, 0.0f, 1.0f);
+    lfloat mu_i = fmin(wi.z, 1.0f), mu_o = fmin(wo.z, 1.0f);
+    lfloat a_f = 1.0f / (1.0f + AW_EON_C1 * sigma);
+    // Item 1 times cos theta_i: f_ss mu_i = (rho/pi) A_F (mu_i + sigma s mu_i / t). Written with
+    // mu_i / t <= 1 (t = max(mu_i, mu_o) when s > 0) it stays bounded by (rho/pi) A_F
+    // (mu_i + sigma) even where s / t alone grows without bound (both directions grazing).
+    lfloat s = l3_dot(wi, wo) - mu_i * mu_o;
+    lfloat s_mu_over_t = L_SEL(s > 0.0f, s * (mu_i / fmax(mu_i, mu_o)), s * mu_i);
+    lfloat ss = a_f * (1.0f / M_PI_F) * (mu_i + sigma * s_mu_over_t);
+    // Item 3 with item 2's cancellation-free forms: the common sigma A_F factors give
+    //   f_ms = (rho_ms / pi) sigma A_F (c1 - G_o/pi)(c1 - G_i/pi) / (c1 - c2).
+    lfloat e_avg = a_f * (1.0f + AW_EON_C2 * sigma);
+    lfloat one_minus_e_avg = sigma * a_f * (AW_EON_C1 - AW_EON_C2);
+    lfloat ms = sigma * a_f * eon_one_minus_ef_scaled(mu_o) * eon_one_minus_ef_scaled(mu_i) /
+                (AW_EON_C1 - AW_EON_C2) * (1.0f / M_PI_F) * mu_i;
+    lfloat3 rho_ms = eon_rho_ms3(albedo, e_avg, one_minus_e_avg);
+    // 1 + sigma s/t >= 0 (s/t >= -1, sigma <= 1), so only rounding could make this negative.
+    lfloat3 eon = l3_fmax(l3_add(l3_scale(albedo, ss), l3_scale(rho_ms, ms)),
+                          make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(0.0f)));
+    r = l3_sel(rough, eon, r);
+  }
+  return l3_sel(none, make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(0.0f)), r);
 }
 
 // Cosine-weighted for every roughness (see the header comment).
-AW_FN float lobe_diffuse_pdf(float roughness, float3 wo, float3 wi) {
-  if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-  return pdf_cosine_hemisphere(wi.z);
+AW_FN lfloat lobe_diffuse_pdf(lfloat roughness, lfloat3 wo, lfloat3 wi) {
+  lmask none = wo.z <= 0.0f || wi.z <= 0.0f;
+  return L_SEL(none, (lfloat)(0.0f), pdf_cosine_hemisphere(wi.z));
 }
 
-AW_FN LobeSample lobe_diffuse_sample(float3 albedo, float roughness, float3 wo, float2 u) {
+AW_FN LobeSample lobe_diffuse_sample(lfloat3 albedo, lfloat roughness, lfloat3 wo, lfloat2 u) {
   LobeSample s = lobe_no_sample();
   s.wi = sample_cosine_hemisphere(u);
-  s.pdf = lobe_diffuse_pdf(roughness, wo, s.wi);
-  if (!(s.pdf > 0.0f)) {
-    s.weight = make_float3(0.0f, 0.0f, 0.0f);
-    s.flags = 0u;
-    s.pdf = 0.0f;
-    return s;
-  }
+  lfloat pdf = lobe_diffuse_pdf(roughness, wo, s.wi);
+  lmask ok = pdf > 0.0f;
   // Lambert: f cos / pdf is exactly the albedo (the pre-EON code path, bit for bit).
   // EON: eval / pdf, with the same pdf the caller's MIS will see.
   // (A division, not a reciprocal: 1/pdf overflows for subnormal pdfs where eval/pdf does not.)
-  s.weight = roughness == 0.0f ? albedo : lobe_diffuse_eval(albedo, roughness, wo, s.wi) / s.pdf;
-  s.flags = AW_LOBE_DIFFUSE_REFLECTION;
+  lfloat3 weight = albedo;
+  lmask rough = roughness != 0.0f;
+  if (L_ANY(rough && ok)) weight = l3_sel(rough, l3_div(lobe_diffuse_eval(albedo, roughness, wo, s.wi), pdf), weight);
+  // A failed sample: weight, flags and pdf 0 (wi keeps the drawn direction).
+  s.weight = l3_sel(ok, weight, make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(0.0f)));
+  s.flags = L_SEL(ok, (luint)(AW_LOBE_DIFFUSE_REFLECTION), (luint)(0u));
+  s.pdf = L_SEL(ok, pdf, (lfloat)(0.0f));
   return s;
 }
 
 // Directional albedo E(wo) = integral of f cos over the hemisphere (item 4), per channel, for
 // lobe selection weights. cos_o <= 0 (view below the surface): 0, as eval.
-AW_FN float3 lobe_diffuse_albedo(float3 albedo, float roughness, float cos_o) {
-  if (cos_o <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
-  if (roughness == 0.0f) return albedo;
-  float sigma = clamp(roughness, 0.0f, 1.0f);
-  float a_f = 1.0f / (1.0f + AW_EON_C1 * sigma);
-  float one_minus_ef = sigma * a_f * eon_one_minus_ef_scaled(cos_o);
-  float ef = 1.0f - one_minus_ef;
-  float e_avg = a_f * (1.0f + AW_EON_C2 * sigma);
-  float one_minus_e_avg = sigma * a_f * (AW_EON_C1 - AW_EON_C2);
-  float3 rho_ms = eon_rho_ms3(albedo, e_avg, one_minus_e_avg);
-  return albedo * ef + rho_ms * one_minus_ef;
+AW_FN lfloat3 lobe_diffuse_albedo(lfloat3 albedo, lfloat roughness, lfloat cos_o) {
+  lmask none = cos_o <= 0.0f;
+  lmask rough = roughness != 0.0f;
+  lfloat3 r = albedo;
+  if (L_ANY(rough && !none)) {
+    lfloat sigma = clamp(roughness, 0.0f, 1.0f);
+    lfloat a_f = 1.0f / (1.0f + AW_EON_C1 * sigma);
+    lfloat one_minus_ef = sigma * a_f * eon_one_minus_ef_scaled(cos_o);
+    lfloat ef = 1.0f - one_minus_ef;
+    lfloat e_avg = a_f * (1.0f + AW_EON_C2 * sigma);
+    lfloat one_minus_e_avg = sigma * a_f * (AW_EON_C1 - AW_EON_C2);
+    lfloat3 rho_ms = eon_rho_ms3(albedo, e_avg, one_minus_e_avg);
+    r = l3_sel(rough, l3_add(l3_scale(albedo, ef), l3_scale(rho_ms, one_minus_ef)), r);
+  }
+  return l3_sel(none, make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(0.0f)), r);
 }
 
 #endif

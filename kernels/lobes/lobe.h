@@ -16,6 +16,7 @@
 #define AW_LOBES_LOBE_H
 
 #include "common/compat.h"
+#include "common/lanes.h"
 
 #define AW_LOBE_REFLECTION 1u
 #define AW_LOBE_TRANSMISSION 2u
@@ -24,15 +25,16 @@
 #define AW_LOBE_SPECULAR 16u  // delta: no MIS, no light sampling
 #define AW_LOBE_DIFFUSE_REFLECTION (AW_LOBE_DIFFUSE | AW_LOBE_REFLECTION)
 
+// On lanes (common/lanes.h): W paths' samples, each field one vector per coordinate.
 typedef struct {
-  float3 wi;
-  float3 weight;
-  float pdf;
-  uint flags;  // 0 = no sample
+  lfloat3 wi;
+  lfloat3 weight;
+  lfloat pdf;
+  luint flags;  // 0 = no sample
   // eta^2 of the interface crossed (eta = n_t / n_i), the inverse of the 1/eta^2 radiance
   // scaling in `weight`; 1 for everything that does not refract into another medium. Russian
   // roulette multiplies it out of the throughput (pbrt-v4's etaScale; docs/performance.md).
-  float eta_scale;
+  lfloat eta_scale;
 } LobeSample;
 
 AW_FN float cos_theta(float3 w) { return w.z; }
@@ -52,11 +54,11 @@ AW_FN int reflection_half_vector(float3 wo, float3 wi, float3* h) {
 // callers must not use).
 AW_FN LobeSample lobe_no_sample(void) {
   LobeSample s;
-  s.wi = make_float3(0.0f, 0.0f, 1.0f);
-  s.weight = make_float3(0.0f, 0.0f, 0.0f);
-  s.pdf = 0.0f;
-  s.flags = 0u;
-  s.eta_scale = 1.0f;
+  s.wi = make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(1.0f));
+  s.weight = make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(0.0f));
+  s.pdf = (lfloat)(0.0f);
+  s.flags = (luint)(0u);
+  s.eta_scale = (lfloat)(1.0f);
   return s;
 }
 

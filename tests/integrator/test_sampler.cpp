@@ -6,12 +6,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "kernels/common/ray.h"
 #include "kernels/common/rng.h"
+#include "kernels/common/sampling.h"
 #include "tests/lobes/lobe_harness.h"
 
 namespace {
@@ -303,7 +306,7 @@ TEST(ZSobolPrimitives, MortonAndPermutations) {
 
 
 // The samplers written on lanes (common/lanes.h): built with 16 paths per work-item
-// (kernels/tests/probe_sampler_lanes.cl, vector loads of 16 pixels, samples and bounces), every
+// (kernels/tests/probe_lanes.cl, vector loads of 16 pixels, samples and bounces), every
 // number equals, bit for bit, what the host's one-path C++ build of the same functions gives:
 // Sobol' and the independent sampler, two seeds, every dimension, sample indices and bounces
 // across their range (0, the top of the 32 bits, random). Runs on every device (@intel, @gpu).
@@ -326,7 +329,7 @@ TEST(SamplerLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
       for (uint32_t dim = AW_DIM_CAMERA; dim <= AW_DIM_AO; ++dim) {
         uint32_t params[3] = {kind, seed, dim};
         std::vector<float> dev = aw::lobe_test::run_device_probe(
-            "tests/probe_sampler_lanes.cl", "probe_sampler_lanes", in, 3, n, {{params, sizeof params}});
+            "tests/probe_lanes.cl", "probe_sampler_lanes", in, 3, n, {{params, sizeof params}});
         Sampler smp = sampler_make(kind, seed, 0u, 0u, 0u);
         size_t differ = 0, first = n;
         for (uint32_t i = 0; i < n; ++i) {
@@ -344,6 +347,100 @@ TEST(SamplerLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
     }
   }
   EXPECT_EQ(cases, 28);
+}
+
+// The warps, frames and MIS weight of common/sampling.h on lanes: 16 paths per work-item
+// (kernels/tests/probe_lanes.cl, probe_warps_lanes) equal the host's one-path C++ bit for bit,
+// for random points of the square (and its centre, edges, corners and diagonals, where the
+// disk map's wedges meet or divide 0 by 0), normals in every direction (the frame's z = 0
+// and -1 branches included), densities from 0 to infinity and NaN, and cones up to the
+// hemisphere. Runs on every device (@intel, @gpu).
+TEST(SamplingLanes, WarpsFramesAndMisEqualTheHostBitForBit) {
+  const uint32_t n = 4096;
+  std::mt19937 rng(41204);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float special_u[] = {0.0f, 0.5f, 1.0f, 0.25f, 0.75f, 0.99999994f};
+  const float special_pdf[] = {0.0f, 1e-30f, 1.0f, 1e30f, inf, nan};
+  std::vector<float> in(8 * n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float ux = i < 36 ? special_u[i % 6] : uni(rng), uy = i < 36 ? special_u[i / 6] : uni(rng);
+    if (i >= 36 && i < 64) uy = ux;  // the diagonal |a| = |b|
+    float nx = 2.0f * uni(rng) - 1.0f, ny = 2.0f * uni(rng) - 1.0f, nz = 2.0f * uni(rng) - 1.0f;
+    if (i % 9 == 0) nz = 0.0f;
+    if (i % 13 == 0) nx = ny = 0.0f, nz = -1.0f;
+    float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+    if (!(len > 0.0f)) nx = 1.0f, len = 1.0f;
+    float vals[8] = {ux, uy, nx / len, ny / len, nz / len,
+                     i % 5 == 0 ? special_pdf[i % 6] : 10.0f * uni(rng), i % 7 == 0 ? special_pdf[(i / 7) % 6] : uni(rng),
+                     i % 3 == 0 ? 0.0f : uni(rng)};
+    for (uint32_t k = 0; k < 8; ++k) in[k * n + i] = vals[k];
+  }
+  const uint32_t outs = 25;
+  std::vector<float> dev = aw::lobe_test::run_device_probe("tests/probe_lanes.cl", "probe_warps_lanes", in, outs, n);
+  const char* names[outs] = {"disk.x", "disk.y", "cos.x", "cos.y", "cos.z", "pdf_cos", "cone.x", "cone.y", "cone.z",
+                             "sin",    "cos",    "t.x",   "t.y",   "t.z",   "b.x",     "b.y",    "b.z",    "world.x",
+                             "world.y", "world.z", "local.x", "local.y", "local.z", "mis(a,b)", "mis(b,a)"};
+  size_t differ = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    float2 u = make_float2(in[i], in[n + i]);
+    float3 nn = make_float3(in[2 * n + i], in[3 * n + i], in[4 * n + i]);
+    float r[outs];
+    float2 d = sample_concentric_disk(u);
+    float3 w = sample_cosine_hemisphere(u);
+    float3 cone = sample_uniform_cone(u, in[7 * n + i]);
+    float3 t, b;
+    make_frame(nn, &t, &b);
+    float3 ww = frame_to_world(w, t, b, nn), wl = frame_to_local(ww, t, b, nn);
+    float vals[outs] = {d.x, d.y, w.x, w.y, w.z, pdf_cosine_hemisphere(w.z), cone.x, cone.y, cone.z, 0.0f, 0.0f,
+                        t.x, t.y, t.z, b.x, b.y, b.z, ww.x, ww.y, ww.z, wl.x, wl.y, wl.z,
+                        mis_power(in[5 * n + i], in[6 * n + i]), mis_power(in[6 * n + i], in[5 * n + i])};
+    std::memcpy(r, vals, sizeof r);
+    sincos_turn(u.x, &r[9], &r[10]);
+    for (uint32_t k = 0; k < outs; ++k) {
+      if (std::memcmp(&r[k], &dev[k * n + i], 4) != 0 && differ++ < 10)
+        ADD_FAILURE() << names[k] << " at item " << i << " (u " << u.x << ", " << u.y << "): host " << r[k]
+                      << ", 16 lanes " << dev[k * n + i];
+    }
+  }
+  EXPECT_EQ(differ, 0u);
+}
+
+// The robust ray origins of common/ray.h on lanes: offset_ray_origin and its one-float step,
+// 16 paths per work-item, equal the host's one-path C++ bit for bit: points near zero, at
+// every scale to 1e30, normals with zero components (no step), errors from 0 to large, and
+// aw_float_step's cases (x = 0 of both signs, s = 0, both signs of both, the largest float,
+// infinities, NaN). Runs on every device (@intel, @gpu).
+TEST(RayLanes, OffsetOriginsEqualTheHostBitForBit) {
+  const uint32_t n = 4096;
+  std::mt19937 rng(51204);
+  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const float special[] = {0.0f, -0.0f, 1.0f, -1.0f, 3.4028235e38f, -3.4028235e38f, 1e-45f, inf, -inf, nan};
+  std::vector<float> in(9 * n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float scale = std::pow(10.0f, float(int(i % 31) - 15) * 2.0f);
+    float nx = uni(rng), ny = uni(rng), nz = uni(rng);
+    if (i % 4 == 0) nx = 0.0f;
+    if (i % 6 == 0) ny = -0.0f;
+    float len = std::sqrt(nx * nx + ny * ny + nz * nz);
+    if (!(len > 0.0f)) nz = 1.0f, len = 1.0f;
+    float vals[9] = {i % 10 == 0 ? 0.0f : uni(rng) * scale, uni(rng) * scale, uni(rng) * scale,
+                     nx / len, ny / len, nz / len, i % 8 == 0 ? 0.0f : std::fabs(uni(rng)) * scale * 1e-6f,
+                     i < 100 ? special[i % 10] : uni(rng) * scale, i < 100 ? special[i / 10] : uni(rng)};
+    for (uint32_t k = 0; k < 9; ++k) in[k * n + i] = vals[k];
+  }
+  std::vector<float> dev = aw::lobe_test::run_device_probe("tests/probe_lanes.cl", "probe_origins_lanes", in, 4, n);
+  size_t differ = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    float3 o = offset_ray_origin(make_float3(in[i], in[n + i], in[2 * n + i]),
+                                 make_float3(in[3 * n + i], in[4 * n + i], in[5 * n + i]), in[6 * n + i]);
+    float r[4] = {o.x, o.y, o.z, aw_float_step(in[7 * n + i], in[8 * n + i])};
+    for (uint32_t k = 0; k < 4; ++k)
+      if (std::memcmp(&r[k], &dev[k * n + i], 4) != 0 && differ++ < 10)
+        ADD_FAILURE() << "output " << k << " at item " << i << ": host " << r[k] << ", 16 lanes " << dev[k * n + i];
+  }
+  EXPECT_EQ(differ, 0u);
 }
 
 }  // namespace
