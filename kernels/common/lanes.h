@@ -13,13 +13,16 @@
 //   L_SEL(mask, a, b) (m ? a : b), never `if` on a lane value;
 // - any()/all() exist only for vectors (L_ANY, L_ALL);
 // - conversions are casts on a scalar and convert_floatW/convert_intW on a vector (L_TO_FLOAT,
-//   L_TO_INT), bit reinterpretations as_int/as_float and as_intW/as_floatW (L_AS_INT, L_AS_FLOAT);
-// - loads and stores of W consecutive words are vloadW/vstoreW (L_LOAD, L_STORE).
+//   L_TO_INT, L_TO_UINT), bit reinterpretations as_int/as_uint/as_float and their W-lane
+//   forms (L_AS_INT, L_AS_UINT, L_AS_FLOAT, L_UINT_AS_FLOAT);
+// - loads and stores of W consecutive words are vloadW/vstoreW (L_LOAD, L_STORE), and a table
+//   entry's field per lane one load per lane (L_GATHER).
 // A program is built at one width (-DAW_LANES=16); a lane program and a scalar program built
 // from the same headers are two programs, so no name is instantiated twice.
 // Which shared code is written on lanes so far (docs/design.md): the samplers of
 // common/rng.h, the warps, frames and MIS weight of common/sampling.h, and the robust ray
-// origins of common/ray.h, the lobe contract (lobes/lobe.h) and the diffuse lobe (lobes/diffuse.h).
+// origins of common/ray.h, the lobe contract (lobes/lobe.h) and the diffuse lobe (lobes/diffuse.h),
+// and the sampling and densities of the analytic lights (lights/lights.h).
 #ifndef AW_COMMON_LANES_H
 #define AW_COMMON_LANES_H
 
@@ -46,10 +49,14 @@ typedef float3 lfloat3;
 #define L_ALL(m) ((m) != 0)
 #define L_TO_FLOAT(x) ((float)(x))
 #define L_TO_INT(x) ((int)(x))
+#define L_TO_UINT(x) ((uint)(x))
 #define L_AS_INT(x) as_int(x)
 #define L_AS_FLOAT(i) as_float_i(i)
+#define L_AS_UINT(x) as_uint(x)
+#define L_UINT_AS_FLOAT(u) as_float(u)
 #define L_LOAD(p, i) ((p)[i])
 #define L_STORE(v, p, i) ((p)[i] = (v))
+#define L_GATHER(T, base, i, field) ((base)[i].field)
 #elif AW_DEVICE && (AW_LANES == 8 || AW_LANES == 16)
 typedef AW_LCAT(float, AW_LANES) lfloat;
 typedef AW_LCAT(uint, AW_LANES) luint;
@@ -81,10 +88,26 @@ AW_FN lfloat3 make_lfloat3(lfloat x, lfloat y, lfloat z) {
 #define L_ALL(m) all(m)
 #define L_TO_FLOAT(x) AW_LCAT(convert_float, AW_LANES)(x)
 #define L_TO_INT(x) AW_LCAT(convert_int, AW_LANES)(x)
+#define L_TO_UINT(x) AW_LCAT(convert_uint, AW_LANES)(x)
 #define L_AS_INT(x) AW_LCAT(as_int, AW_LANES)(x)
 #define L_AS_FLOAT(i) AW_LCAT(as_float, AW_LANES)(i)
+#define L_AS_UINT(x) AW_LCAT(as_uint, AW_LANES)(x)
+#define L_UINT_AS_FLOAT(u) AW_LCAT(as_float, AW_LANES)(u)
 #define L_LOAD(p, i) AW_LCAT(vload, AW_LANES)((i), (p))
 #define L_STORE(v, p, i) AW_LCAT(vstore, AW_LANES)((v), (i), (p))
+// Field `field` of table entry i of each lane (T: float or uint), one load per lane: what a
+// path reads from the scene's tables (lights, materials) when its lanes' entries differ.
+#if AW_LANES == 8
+#define L_GATHER(T, base, i, field)                                                                 \
+  ((AW_LCAT(T, 8))((base)[(i).s0].field, (base)[(i).s1].field, (base)[(i).s2].field, (base)[(i).s3].field, \
+                    (base)[(i).s4].field, (base)[(i).s5].field, (base)[(i).s6].field, (base)[(i).s7].field))
+#else
+#define L_GATHER(T, base, i, field)                                                                  \
+  ((AW_LCAT(T, 16))((base)[(i).s0].field, (base)[(i).s1].field, (base)[(i).s2].field, (base)[(i).s3].field, \
+                     (base)[(i).s4].field, (base)[(i).s5].field, (base)[(i).s6].field, (base)[(i).s7].field, \
+                     (base)[(i).s8].field, (base)[(i).s9].field, (base)[(i).sa].field, (base)[(i).sb].field, \
+                     (base)[(i).sc].field, (base)[(i).sd].field, (base)[(i).se].field, (base)[(i).sf].field))
+#endif
 #else
 #error "AW_LANES must be 1, or 8 or 16 in OpenCL C"
 #endif
@@ -114,6 +137,17 @@ AW_FN lfloat3 l3_sel(lmask m, lfloat3 a, lfloat3 b) {
 }
 #endif
 AW_FN lfloat l_safe_sqrt(lfloat x) { return sqrt(fmax(x, (lfloat)(0.0f))); }
+AW_FN lfloat3 l3_splat(lfloat x) { return make_lfloat3(x, x, x); }
+AW_FN lfloat3 l3_neg(lfloat3 a) { return make_lfloat3(-a.x, -a.y, -a.z); }
+// cross, length and normalize are written out at every width, W = 1 included, rather than
+// taken from OpenCL's built-ins (or glm's on the host): a built-in may round differently on a
+// float3 and on lanes, and differently on each device (as acos did, below). These are the
+// textbook forms, the ones glm uses: normalize is v times 1 / sqrt(v . v).
+AW_FN lfloat3 l3_cross(lfloat3 a, lfloat3 b) {
+  return make_lfloat3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+AW_FN lfloat l3_length(lfloat3 a) { return sqrt(l3_dot(a, a)); }
+AW_FN lfloat3 l3_normalize(lfloat3 a) { return l3_scale(a, 1.0f / sqrt(l3_dot(a, a))); }
 
 // arccos of x in [-1, 1], by Cephes' single-precision acosf (S. L. Moshier 1989, "Methods and
 // Programs for Mathematical Functions", Cephes Math Library: asinf.c): asin's minimax

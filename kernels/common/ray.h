@@ -27,10 +27,13 @@ AW_FN float aw_gamma(float n) { return n * AW_ROUNDOFF / (1.0f - n * AW_ROUNDOFF
 
 // One float further from `x` in the direction of the sign of `s` (0: x itself); from zero, the
 // smallest normal float, not a denormal, which devices may flush back to zero.
-// (On lanes, common/lanes.h: every case computed, the path's own selected.)
+// (On lanes, common/lanes.h: every case computed, the path's own selected. The step is taken
+// on the bits as unsigned words, whose wrap-around is defined: x = -0, stepped down and then
+// discarded by the selects, is 0x80000000 - 1, which as a signed int overflows, undefined in
+// C++ and OpenCL C alike, and caught by UBSan.)
 AW_FN lfloat aw_float_step(lfloat x, lfloat s) {
   lmask up = (x > 0.0f) == (s > 0.0f);  // away from zero
-  lfloat stepped = L_AS_FLOAT(L_AS_INT(x) + L_SEL(up, (lint)(1), (lint)(-1)));
+  lfloat stepped = L_UINT_AS_FLOAT(L_AS_UINT(x) + L_SEL(up, (luint)(1u), (luint)(0xffffffffu)));
   lfloat from_zero = copysign((lfloat)(1.17549435e-38f), s);
   return L_SEL(s == 0.0f, x, L_SEL(x == 0.0f, from_zero, stepped));
 }

@@ -42,6 +42,27 @@ AW_FN void sincos_turn(lfloat u, lfloat* s, lfloat* c) {
   *s = L_SEL(q == 0, b, L_SEL(q == 1, a, L_SEL(q == 2, -b, -a)));
 }
 
+// sin x and cos x for |x| < 8192 (a spherical rectangle's angles, lights/lights.h), through
+// sincos_quarter: the argument reduced to r = |x| - j pi/4 with j the even multiple nearest
+// |x| / (pi/4), |r| <= pi/4, by Cody & Waite's reduction with pi/4 split into three parts of
+// which j times the first two are exact (W. J. Cody & W. Waite 1980, "Software Manual for the
+// Elementary Functions", Ch. 8; the split of Cephes' sinf.c); then j / 2 quarter turns. Same
+// reasons as above: one rounding at every width and on every side, which sin() and cos() do
+// not promise. Error against double precision: LaneMath.SinCosIsAccurate.
+AW_FN void l_sincos(lfloat x, lfloat* s, lfloat* c) {
+  lfloat ax = fabs(x);
+  lint j = L_TO_INT(ax * 1.27323954473516f);  // 4 / pi
+  j = j + (j & 1);
+  lfloat y = L_TO_FLOAT(j);
+  lfloat r = ((ax - y * 0.78515625f) - y * 2.4187564849853515625e-4f) - y * 3.77489497744594108e-8f;
+  lfloat sr, cr;
+  sincos_quarter(r, &sr, &cr);
+  lint q = (j >> 1) & 3;  // quarter turns: (sin, cos) = (s, c), (c, -s), (-s, -c), (-c, s)
+  lfloat sa = L_SEL(q == 0, sr, L_SEL(q == 1, cr, L_SEL(q == 2, -sr, -cr)));
+  *c = L_SEL(q == 0, cr, L_SEL(q == 1, -sr, L_SEL(q == 2, -cr, sr)));
+  *s = L_SEL(x < 0.0f, -sa, sa);
+}
+
 // Concentric square-to-disk map: Shirley & Chiu 1997, "A Low Distortion Map Between Disk and
 // Square", Sec. 3 (in the polar form of Shirley's later note). Keeps strata compact. The angle
 // is phi = (pi/4)(b/a) in the wedges |a| > |b|, else pi/2 - (pi/4)(a/b); both are a quarter-range

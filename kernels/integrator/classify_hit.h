@@ -163,13 +163,13 @@ AW_FN void classify_fog(PathRef ps, SceneRef sc) {
 // position the shading point fields still hold (classify_store_shading_point comes later).
 AW_FN float classify_light_mis(PathRef ps, SceneRef sc, const RenderParams* rp, uint light, float3 dir) {
   if (PS_U(ps, bounce) == 0u || (PS_U(ps, flags) & AW_PATH_SPECULAR)) return 1.0f;
-  const AW_GLOBAL LightGpu* l = &sc.lights[light];
-  float pdf_light = light_select_pmf(sc, rp, light, ps_sp_position(ps)) * light_pdf(l, ps_ray_origin(ps), dir, PS_F(ps, hit_t));
+  float pdf_light = light_select_pmf(sc, rp, light, ps_sp_position(ps)) *
+                    light_pdf(light_load(sc.lights, light), ps_ray_origin(ps), dir, PS_F(ps, hit_t));
   return mis_power(PS_F(ps, bsdf_pdf), pdf_light);
 }
 
 AW_FN void classify_light_hit(PathRef ps, SceneRef sc, const RenderParams* rp, uint light, float3 dir, float3 thr) {
-  float3 le = light_emitted(&sc.lights[light], dir);
+  float3 le = light_emitted(light_load(sc.lights, light), dir);
   float w = classify_light_mis(ps, sc, rp, light, dir);
   ps_add_radiance(ps, thr * le * (w * PS_F(ps, emit_scale)));
 }
@@ -190,7 +190,7 @@ AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp,
       li = env_radiance(sc.env, rp, dir);
       pdf = mis ? env_pdf(sc.env, rp, dir) : 0.0f;
     } else if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) {
-      pdf = sun_pdf(l, dir);
+      pdf = sun_pdf(light_load(sc.lights, i), dir);
       // Outside the disc, a hard sun, or a sun that camera rays do not see (light.visible).
       if (!(pdf > 0.0f) || (PS_U(ps, bounce) == 0u && !(l->flags & AW_LIGHT_VISIBLE))) continue;
       li = load_f3(l->radiance);

@@ -75,10 +75,10 @@ AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* 
     *pdf = 0.0f;
     return none;
   }
-  const AW_GLOBAL LightGpu* l = &sc.lights[*light];
+  LightL l = light_load(sc.lights, *light);
   float2 u = rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT);
   LightSample ls;
-  if (AW_FEAT_ENV_MAP && l->type == AW_LIGHT_ENV) {
+  if (AW_FEAT_ENV_MAP && l.type == AW_LIGHT_ENV) {
     // The map's own 2-D distribution; the radiance of the very texel drawn (environment.h).
     uint texel;
     ls.wi = env_sample(sc.env, rp, u, &ls.pdf, &texel);

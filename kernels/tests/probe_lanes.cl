@@ -1,6 +1,7 @@
 // Shared code written on lanes (common/lanes.h), built with 16 paths per work-item, against
 // the host's one-path C++ build of the same functions (tests/integrator/test_sampler.cpp,
-// SamplerLanes.*, SamplingLanes.*, RayLanes.* and DiffuseLanes.*).
+// SamplerLanes.*, SamplingLanes.*, RayLanes.* and DiffuseLanes.*; tests/integrator/
+// test_light_sampling.cpp, LightLanes.*).
 //
 // probe_sampler_lanes (common/rng.h)
 // in: n pixels, then n sample indices, then n bounces (uint bits in the float buffer), field-
@@ -11,6 +12,7 @@
 #include "common/ray.h"
 #include "common/sampling.h"
 #include "lobes/diffuse.h"
+#include "lights/lights.h"
 
 __kernel void probe_sampler_lanes(uint n, __global const float* in, __global float* out,
                                   __global const uint* params) {
@@ -123,4 +125,42 @@ __kernel void probe_diffuse_lanes(uint n, __global const float* in, __global flo
   r[13] = a.y;
   r[14] = a.z;
   for (uint k = 0u; k < AW_PROBE_DIFFUSE_LANES_OUT; ++k) L_STORE(r[k], out + k * n, g);
+}
+
+// probe_lights_lanes (lights/lights.h; l_sincos of common/sampling.h)
+// in: 12 fields of n values: the shading point p (3), the light sample's u (2), a unit
+//     direction (3) and a distance t for light_pdf and light_emitted, the light's index (the
+//     uint's bits), the pick's u, an angle x.
+// lights: the light table; params: [0] its size.
+// out: light_sample's wi (3), dist, le (3), pdf, is_delta (1 or 0); light_pdf; light_emitted
+//      (3); light_pick (the uint's bits); sin x, cos x (l_sincos).
+#define AW_PROBE_LIGHTS_LANES_IN 12
+#define AW_PROBE_LIGHTS_LANES_OUT 16
+__kernel void probe_lights_lanes(uint n, __global const float* in, __global float* out,
+                                 __global const LightGpu* lights, __global const uint* params) {
+  uint g = get_global_id(0);
+  if ((g + 1u) * AW_LANES > n) return;
+  lfloat v[AW_PROBE_LIGHTS_LANES_IN];
+  for (uint k = 0u; k < AW_PROBE_LIGHTS_LANES_IN; ++k) v[k] = L_LOAD(in + k * n, g);
+  lfloat3 p = make_lfloat3(v[0], v[1], v[2]), dir = make_lfloat3(v[5], v[6], v[7]);
+  LightL l = light_load(lights, L_AS_UINT(v[9]));
+  LightSample s = light_sample(l, p, make_lfloat2(v[3], v[4]));
+  lfloat3 le = light_emitted(l, dir);
+  lfloat r[AW_PROBE_LIGHTS_LANES_OUT];
+  r[0] = s.wi.x;
+  r[1] = s.wi.y;
+  r[2] = s.wi.z;
+  r[3] = s.dist;
+  r[4] = s.le.x;
+  r[5] = s.le.y;
+  r[6] = s.le.z;
+  r[7] = s.pdf;
+  r[8] = L_SEL(s.is_delta != 0, (lfloat)(1.0f), (lfloat)(0.0f));
+  r[9] = light_pdf(l, p, dir, v[8]);
+  r[10] = le.x;
+  r[11] = le.y;
+  r[12] = le.z;
+  r[13] = L_UINT_AS_FLOAT(light_pick(lights, params[0], v[10]));
+  l_sincos(v[11], &r[14], &r[15]);
+  for (uint k = 0u; k < AW_PROBE_LIGHTS_LANES_OUT; ++k) L_STORE(r[k], out + k * n, g);
 }
