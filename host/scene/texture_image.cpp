@@ -35,7 +35,9 @@ class MemoryIStream : public Imf::IStream {
  public:
   MemoryIStream(const unsigned char* data, size_t size) : Imf::IStream("memory"), data_(data), size_(size) {}
   bool read(char c[], int n) override {
-    if (n < 0 || pos_ + uint64_t(n) > size_) throw std::runtime_error("the EXR data is truncated");
+    // (Not pos_ + n > size_: a corrupt offset table seeks anywhere, even to 2^64 - 1, where
+    // that sum wraps around and lets the read through; fuzz_image found it.)
+    if (n < 0 || pos_ > size_ || uint64_t(n) > size_ - pos_) throw std::runtime_error("the EXR data is truncated");
     std::memcpy(c, data_ + pos_, size_t(n));
     pos_ += uint64_t(n);
     return pos_ < size_;
