@@ -203,6 +203,10 @@ int main(int argc, char** argv) {
   app.add_flag("--generic-kernels", generic,
                "Build the kernels with every material and light feature, instead of only those the scene uses "
                "(for comparison; the default specialised build gives the same image)");
+  bool no_lanes = false;
+  app.add_flag("--no-lanes", no_lanes,
+               "Run every stage one path per work-item; by default a CPU device runs the stages written on "
+               "lanes 16 paths per work-item where the scene allows (the same image bit for bit; docs/performance.md)");
   app.add_option("-D,--define", defines,
                  "Set any scene key, e.g. -D render.max_depth=4 -D materials.floor.diffuse.color=[1,0,0]")
       ->take_last()
@@ -428,6 +432,7 @@ int main(int argc, char** argv) {
     opts.pool_size = pool;
     opts.dense_fraction = dense_fraction;
     opts.generic_kernels = generic;
+    opts.lanes = !no_lanes;
     opts.threads = threads;
     opts.kernel_dir = kernel_dir;
     opts.progress = !no_progress && aw::stderr_is_terminal();

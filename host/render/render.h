@@ -41,6 +41,9 @@ struct RenderOptions {
   // of the render's time (RenderDeviceError keeps the last); 0 = after every batch; < 0 = none.
   double snapshot_seconds = 2.0;
   bool generic_kernels = false;  // build every feature in, not just what the scene uses
+  // On a CPU device, run the stages written on lanes 16 paths per work-item when the scene
+  // allows it (kernels/integrator/kernels_lanes.cl); false: every stage one path per work-item.
+  bool lanes = true;
   std::vector<std::string> force_off;  // feature names to compile out anyway (tests of the guard)
   const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
   // Parts of a frame (docs/production.md). The film covers `window` (empty: the whole frame)
@@ -73,6 +76,7 @@ struct RenderStats {
   double path_seconds() const;
   std::string kernel_build;  // how the program was had (ClRuntime::last_build), "" for the scalar path
   std::string kernel_features;  // "generic" or the specialised feature list
+  std::string lanes;  // which stages ran on lanes, or why none did ("" for the scalar path)
   std::vector<std::pair<std::string, double>> stage_seconds;  // in pipeline order
   std::vector<uint64_t> stage_items;  // paths (or pixels) each stage processed, same order
   uint64_t closest_rays = 0;

@@ -20,6 +20,7 @@ nlohmann::json stats_to_json(const RenderResult& result, const Scene& scene) {
       {"device", st.device},
       {"device_choice", st.device_choice},
       {"kernel_features", st.kernel_features},
+      {"lanes", st.lanes},
       {"scene", scene.path},
       {"width", result.width},
       {"height", result.height},

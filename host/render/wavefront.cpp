@@ -11,6 +11,7 @@
 // driver binds the buffers by the generated AW_ARG_* indices (StageBuffers below) and sets
 // the per-launch values the same way, so there is no argument position to keep in step.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -42,6 +43,7 @@ namespace {
 // stages at 64 (accumulate: 0.24 s -> 0.07 s for 2.6M paths on the Cornell box); the heavy
 // stages do not care.
 constexpr uint32_t kWorkGroup = 256;
+constexpr uint32_t kLanes = 16;  // paths per work-item of the lane program (kernels_lanes.cl, -DAW_LANES)
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 static_assert(kWorkGroup >= AW_Q_COUNT, "wg_append keeps one local counter per queue in the work-group");
 
@@ -101,6 +103,7 @@ struct Stage {
   bool dense_ok = false; // consumes its whole queue, so a launch over the pool in slot order works
   bool appends = false;
   cl::Kernel kernel;     // null for a lobe this build lacks
+  cl::Kernel lanes_kernel;  // its lane form (kernels_lanes.cl), for dense launches; null: none
   double seconds = 0.0;
   uint64_t items = 0;    // paths (pixels for film_accumulate) processed: throughput per stage
 };
@@ -299,6 +302,42 @@ class Wavefront {
                           (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
     program_ = rt_.build(src, options, &st_.compile_seconds);
     st_.kernel_build = rt_.last_build();
+    build_lanes_program(need, options);
+  }
+
+  // The stages written on lanes (kernels/integrator/kernels_lanes.cl), 16 paths per
+  // work-item: on a CPU device (a GPU's work-items are SIMD lanes already), and only for a
+  // scene that needs nothing the lane program leaves out (its header says what); otherwise
+  // every stage runs one path per work-item, and the stats say why.
+  void build_lanes_program(const FeatureSet& need, const std::string& options) {
+    if (!opts_.lanes) {
+      st_.lanes = "off (--no-lanes)";
+      return;
+    }
+    if (rt_.info().type != "CPU") {
+      st_.lanes = "off (not a CPU device)";
+      return;
+    }
+    std::string why;
+    // (Per-lobe samples do not stop it: a split starts only in the stage of a lobe with
+    // `samples`, and the lobes on lanes have none; kernels/integrator/shade_surface.h.)
+    for (int i : {FeatureSet::TEXTURE, FeatureSet::BUMP, FeatureSet::LIGHT_TREE, FeatureSet::ENV_MAP, FeatureSet::AOV,
+                  FeatureSet::SAMPLER_ZSOBOL})
+      if (need.on[i]) {
+        std::string n = FeatureSet::name(i);
+        for (char& ch : n) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+        why += (why.empty() ? "" : ", ") + n;
+      }
+    if (!why.empty()) {
+      st_.lanes = "off (the scene needs " + why + ", one path per work-item still)";
+      return;
+    }
+    std::string src = assemble_kernel_source("integrator/kernels_lanes.cl", opts_.kernel_dir);
+    lanes_program_ = rt_.build(src, options + " -DAW_LANES=" + std::to_string(kLanes), &st_.compile_seconds);
+    st_.lanes = std::to_string(kLanes) + " paths per work-item:";
+#define AW_LANES_STAGE_NAME(ID, name, FEATURE, TRAITS) st_.lanes += " shade_" #name;
+    AW_LOBE_LIST_ON_LANES(AW_LANES_STAGE_NAME)
+#undef AW_LANES_STAGE_NAME
   }
 
   void allocate() {
@@ -418,6 +457,16 @@ class Wavefront {
     ao_ = add("ambient_occlusion", AW_Q_AO, true, true, features_.on[FeatureSet::AO]);
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
       shade_[l] = add(kLobeStageNames[l], AW_Q_LOBE + int(l), true, true, features_.lobe(l));
+    if (lanes_program_()) {
+#define AW_LANES_KERNEL(ID, name, FEATURE, TRAITS)                                          \
+  if (features_.lobe(AW_LID_##ID)) {                                                        \
+    Stage& s = stages_[shade_[AW_LID_##ID]];                                                \
+    s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_shade_" #name "_lanes");           \
+    bind_stage_args(s.lanes_kernel, buf_);                                                  \
+  }
+      AW_LOBE_LIST_ON_LANES(AW_LANES_KERNEL)
+#undef AW_LANES_KERNEL
+    }
     shadow_ = add("intersect_shadow", AW_Q_SHADOW, true, false, true);
     // regenerate takes part of the free queue, accumulate sees small queues:
     // they run over their queue entries only.
@@ -439,16 +488,28 @@ class Wavefront {
       set_launch_args(s, 0, false, 0);
       for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
         rt_.queue().enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+      // A lane kernel is always dense: a launch over the pool with every tag reset would do
+      // work, so it warms up on one group of a pool of 0 slots (every work-item masks itself out).
+      if (s.lanes_kernel()) {
+        RenderParams warm = rp_;
+        warm.pool_size = 0;
+        set_launch_args(s.lanes_kernel, warm, 0, false, 0);
+        for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
+          rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+      }
     }
     rt_.queue().finish();
     st_.compile_seconds += since(t0);
   }
 
   void set_launch_args(Stage& s, uint32_t count, bool dense, uint32_t job_start) {
-    s.kernel.setArg(AW_ARG_rp, sizeof(RenderParams), &rp_);
-    s.kernel.setArg(AW_ARG_count, count);
-    s.kernel.setArg(AW_ARG_dense, uint32_t(dense));
-    s.kernel.setArg(AW_ARG_job_start, job_start);
+    set_launch_args(s.kernel, rp_, count, dense, job_start);
+  }
+  static void set_launch_args(cl::Kernel& k, const RenderParams& rp, uint32_t count, bool dense, uint32_t job_start) {
+    k.setArg(AW_ARG_rp, sizeof(RenderParams), &rp);
+    k.setArg(AW_ARG_count, count);
+    k.setArg(AW_ARG_dense, uint32_t(dense));
+    k.setArg(AW_ARG_job_start, job_start);
   }
 
   // Runs one stage over `n` items and waits, so its time is its own. Stages that append to
@@ -470,9 +531,16 @@ class Wavefront {
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction : kDenseFraction;
     bool dense = s.dense_ok && double(n) >= dense_fraction * double(pool_);
-    set_launch_args(s, uint32_t(n), dense, job_start);
-    size_t global = dense ? size_t(pool_) : pad_to_group(n);  // pool is a multiple of the group
-    rt_.queue().enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+    if (dense && s.lanes_kernel()) {
+      // The lane form: pool / kLanes work-items of kLanes consecutive slots each.
+      set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);
+      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / kLanes)),
+                                       cl::NDRange(kWorkGroup));
+    } else {
+      set_launch_args(s, uint32_t(n), dense, job_start);
+      size_t global = dense ? size_t(pool_) : pad_to_group(n);  // pool is a multiple of the group
+      rt_.queue().enqueueNDRangeKernel(s.kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+    }
     if (s.appends) rt_.queue().enqueueReadBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     else rt_.queue().finish();
     s.seconds += since(t0);
@@ -578,6 +646,7 @@ class Wavefront {
   FlatBvh bvh_;
   FeatureSet features_;
   cl::Program program_;
+  cl::Program lanes_program_;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
   RenderParams rp_{};
   uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0;
   uint32_t first_sample_ = 0;  // the sample of job 0 (begin_film)

@@ -138,6 +138,7 @@ AW_FN lfloat3 l3_sel(lmask m, lfloat3 a, lfloat3 b) {
 #endif
 AW_FN lfloat l_safe_sqrt(lfloat x) { return sqrt(fmax(x, (lfloat)(0.0f))); }
 AW_FN lfloat3 l3_splat(lfloat x) { return make_lfloat3(x, x, x); }
+AW_FN lfloat l3_max3(lfloat3 v) { return fmax(v.x, fmax(v.y, v.z)); }  // max3 of compat.h
 AW_FN lfloat3 l3_neg(lfloat3 a) { return make_lfloat3(-a.x, -a.y, -a.z); }
 // cross, length and normalize are written out at every width, W = 1 included, rather than
 // taken from OpenCL's built-ins (or glm's on the host): a built-in may round differently on a

@@ -204,11 +204,17 @@ AW_FN lfloat rng_sobol_1d(uint seed, luint pixel, luint sample, luint bounce, ui
 // table lookup): one path per call only. A lane program (AW_LANES > 1) has Sobol' and the independent
 // sampler; nothing builds one for a zsobol render (common/lanes.h).
 // pcg: Jarzynski & Olano 2020 (JCGT 9(3), Sec. 3): their recommended 1-D 32-bit hash.
-AW_FN luint pcg_hash(luint v) {
-  luint state = v * 747796405u + 2891336453u;
-  luint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-  return (word >> 22u) ^ word;
-}
+// Written once, instantiated on lanes (pcg_hash) and for one value (pcg_hash1: code that is
+// one path per call, e.g. texture noise, in a program of any width; the same function at W = 1).
+#define AW_PCG_HASH(T, name)                                       \
+  AW_FN T name(T v) {                                              \
+    T state = v * 747796405u + 2891336453u;                        \
+    T word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u; \
+    return (word >> 22u) ^ word;                                   \
+  }
+AW_PCG_HASH(luint, pcg_hash)
+AW_PCG_HASH(uint, pcg_hash1)
+#undef AW_PCG_HASH
 
 #if AW_LANES == 1
 

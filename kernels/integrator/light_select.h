@@ -21,22 +21,26 @@ AW_FN uint triangle_light(SceneRef sc, const RenderParams* rp, uint prim) {
 }
 
 // A light for next-event estimation at p from one uniform number, and its probability;
-// AW_NONE when the tree finds no light that can reach p.
-AW_FN uint light_choose(SceneRef sc, const RenderParams* rp, float3 p, float u, float* select) {
+// AW_NONE when the tree finds no light that can reach p. On lanes (common/lanes.h) the alias
+// table only: the light tree is one path per call still (light_tree.h), so a program with
+// W > 1 lanes is built only for scenes without it.
+AW_FN luint light_choose(SceneRef sc, const RenderParams* rp, lfloat3 p, lfloat u, lfloat* select_pmf) {
+#if AW_LANES == 1
   if (light_tree_used(rp)) {
     if (u < rp->tree_prob) {
       float pmf;
       uint li = light_tree_sample(sc.light_tree, p, fmin(u / rp->tree_prob, 0.99999994f), &pmf);
-      *select = rp->tree_prob * pmf;
+      *select_pmf = rp->tree_prob * pmf;
       return li;
     }
     // The lights at infinity: their alias table (built over them alone, lights[0, num_infinite)).
     uint li = light_pick(sc.lights, rp->num_infinite, fmin((u - rp->tree_prob) / (1.0f - rp->tree_prob), 0.99999994f));
-    *select = sc.lights[li].select_pdf;
+    *select_pmf = sc.lights[li].select_pdf;
     return li;
   }
-  uint li = light_pick(sc.lights, rp->num_lights, u);
-  *select = sc.lights[li].select_pdf;
+#endif
+  luint li = light_pick(sc.lights, rp->num_lights, u);
+  *select_pmf = L_GATHER(float, sc.lights, li, select_pdf);
   return li;
 }
 
@@ -56,28 +60,33 @@ AW_FN int scene_lights_intersect(SceneRef sc, const RenderParams* rp, float3 org
 
 // Picks a light and a point on it. Returns the sample and writes the pick into *light and
 // the combined (selection × solid angle) pdf into *pdf; pdf 0 = nothing to connect to.
-AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, float3 p,
-                                   uint* light, float* pdf) {
-  uint pixel = PS_U(ps, pixel), sample = PS_U(ps, sample), bounce = PS_U(ps, bounce);
+// On lanes: the analytic lights only (the environment map is sampled one path per call,
+// lights/environment.h, so a program with W > 1 lanes is built only for scenes without it).
+AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* rp, lfloat3 p,
+                                   luint* light, lfloat* pdf) {
+  luint pixel = PS_LU(ps, pixel), sample = PS_LU(ps, sample), bounce = PS_LU(ps, bounce);
   // One light: light_pick returns it for any u (its alias entry keeps it with probability 1),
   // so no random number is drawn for the pick.
-  float u_pick = rp->num_lights > 1u ? rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK) : 0.0f;
-  float select;
-  *light = light_choose(sc, rp, p, u_pick, &select);
-  if (*light == AW_NONE) {  // the tree found no light that can reach p
-    LightSample none;
-    none.pdf = 0.0f;
-    none.is_delta = 0;
-    none.dist = 0.0f;
-    none.le = make_float3(0.0f, 0.0f, 0.0f);
-    none.wi = make_float3(0.0f, 0.0f, 1.0f);
-    *light = 0u;
-    *pdf = 0.0f;
-    return none;
+  lfloat u_pick = (lfloat)(0.0f);
+  if (rp->num_lights > 1u) u_pick = rng_1d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT_PICK);
+  lfloat select_pmf;  // (not `select`: that would hide OpenCL's select(), which L_SEL is)
+  *light = light_choose(sc, rp, p, u_pick, &select_pmf);
+  lmask none = *light == AW_NONE;  // the tree found no light that can reach p
+  LightSample nothing;
+  nothing.pdf = (lfloat)(0.0f);
+  nothing.is_delta = (lmask)(0);
+  nothing.dist = (lfloat)(0.0f);
+  nothing.le = l3_splat((lfloat)(0.0f));
+  nothing.wi = make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(1.0f));
+  *light = L_SEL(none, (luint)(0u), *light);
+  if (L_ALL(none)) {
+    *pdf = (lfloat)(0.0f);
+    return nothing;
   }
   LightL l = light_load(sc.lights, *light);
-  float2 u = rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT);
+  lfloat2 u = rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT);
   LightSample ls;
+#if AW_LANES == 1
   if (AW_FEAT_ENV_MAP && l.type == AW_LIGHT_ENV) {
     // The map's own 2-D distribution; the radiance of the very texel drawn (environment.h).
     uint texel;
@@ -88,7 +97,11 @@ AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* 
   } else {
     ls = light_sample(l, p, u);
   }
-  *pdf = ls.pdf * select;
+#else
+  ls = light_sample(l, p, u);
+#endif
+  ls = light_sample_sel(none, nothing, ls);
+  *pdf = L_SEL(none, (lfloat)(0.0f), ls.pdf * select_pmf);
   return ls;
 }
 

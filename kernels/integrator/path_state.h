@@ -3,6 +3,7 @@
 #define AW_INTEGRATOR_PATH_STATE_H
 
 #include "common/compat.h"
+#include "common/lanes.h"
 #include "common/rng.h"
 #include "types/scene.h"
 
@@ -42,6 +43,8 @@ AW_FN Sampler rp_sampler(const RenderParams* rp) {
 // snap_f / snap_u: the first-hit snapshot of lobe splitting (integrator/split.h); only the
 // stages that split or end paths get them, the others leave them null. aov: the first hit's
 // AOV data (integrator/aov.h, AW_AOVS_*), only when the render asks for AOVs (rp->aov_mask).
+// On lanes (common/lanes.h, AW_LANES = W > 1) it is a handle on W paths: the slots slot ..
+// slot + W - 1, and `live`, the lanes that are paths of the stage; see PS_LF below.
 typedef struct {
   AW_GLOBAL float* sf;
   AW_GLOBAL uint* su;
@@ -50,28 +53,63 @@ typedef struct {
   AW_GLOBAL float* aov;
   uint pool;
   uint slot;
+#if AW_LANES > 1
+  lmask live;
+#endif
 } PathRef;
 #define PS_AOV(ps, i) ((ps).aov[(uint)(i) * (ps).pool + (ps).slot])
 
+// One path's field, as an lvalue (code written for one path per call).
 #define PS_F(ps, name) ((ps).sf[(uint)AW_SF_##name * (ps).pool + (ps).slot])
 #define PS_U(ps, name) ((ps).su[(uint)AW_SU_##name * (ps).pool + (ps).slot])
 
-AW_FN float3 ps_ray_origin(PathRef ps) { return make_float3(PS_F(ps, ray_ox), PS_F(ps, ray_oy), PS_F(ps, ray_oz)); }
-AW_FN float3 ps_ray_dir(PathRef ps) { return make_float3(PS_F(ps, ray_dx), PS_F(ps, ray_dy), PS_F(ps, ray_dz)); }
-AW_FN void ps_set_ray(PathRef ps, float3 o, float3 d) {
-  PS_F(ps, ray_ox) = o.x; PS_F(ps, ray_oy) = o.y; PS_F(ps, ray_oz) = o.z;
-  PS_F(ps, ray_dx) = d.x; PS_F(ps, ray_dy) = d.y; PS_F(ps, ray_dz) = d.z;
+// Code written on lanes reads a field with PS_LF/PS_LU and writes it with PS_SET_F/PS_SET_U.
+// At W = 1 these are PS_F/PS_U. At W > 1 a read is one vector load of the W slots' words
+// (fields are field-major, so the block's words are consecutive: what bench_lanes measured
+// pays), and a write stores the value into the live lanes only, a read-modify-write of the
+// whole vector (the block belongs to one work-item, so no other writes it meanwhile).
+// A path that ends or skips the rest of a step leaves `live` (PS_KEEP(ps, m): keep the lanes
+// of m); code that does so must then `if (!L_ANY(m)) return`, which at W = 1, where there
+// is no `live`, is the scalar code's own early return, so that a write is never reached for
+// a path that should not make it.
+#if AW_LANES == 1
+#define PS_LF(ps, name) PS_F(ps, name)
+#define PS_LU(ps, name) PS_U(ps, name)
+#define PS_SET_F(ps, name, v) (PS_F(ps, name) = (v))
+#define PS_SET_U(ps, name, v) (PS_U(ps, name) = (v))
+#define PS_LIVE(ps) 1
+#define PS_KEEP(ps, m) ((void)0)
+#else
+AW_FN void ps_store_f(AW_GLOBAL float* p, lfloat v, lmask m) { L_STORE(L_SEL(m, v, L_LOAD(p, 0)), p, 0); }
+AW_FN void ps_store_u(AW_GLOBAL uint* p, luint v, lmask m) { L_STORE(L_SEL(m, v, L_LOAD(p, 0)), p, 0); }
+#define PS_LF(ps, name) L_LOAD((ps).sf + (uint)AW_SF_##name * (ps).pool + (ps).slot, 0)
+#define PS_LU(ps, name) L_LOAD((ps).su + (uint)AW_SU_##name * (ps).pool + (ps).slot, 0)
+#define PS_SET_F(ps, name, v) ps_store_f((ps).sf + (uint)AW_SF_##name * (ps).pool + (ps).slot, (v), (ps).live)
+#define PS_SET_U(ps, name, v) ps_store_u((ps).su + (uint)AW_SU_##name * (ps).pool + (ps).slot, (v), (ps).live)
+#define PS_LIVE(ps) ((ps).live)
+#define PS_KEEP(ps, m) ((ps).live = (ps).live && (m))
+#endif
+
+AW_FN lfloat3 ps_ray_origin(PathRef ps) { return make_lfloat3(PS_LF(ps, ray_ox), PS_LF(ps, ray_oy), PS_LF(ps, ray_oz)); }
+AW_FN lfloat3 ps_ray_dir(PathRef ps) { return make_lfloat3(PS_LF(ps, ray_dx), PS_LF(ps, ray_dy), PS_LF(ps, ray_dz)); }
+AW_FN void ps_set_ray(PathRef ps, lfloat3 o, lfloat3 d) {
+  PS_SET_F(ps, ray_ox, o.x); PS_SET_F(ps, ray_oy, o.y); PS_SET_F(ps, ray_oz, o.z);
+  PS_SET_F(ps, ray_dx, d.x); PS_SET_F(ps, ray_dy, d.y); PS_SET_F(ps, ray_dz, d.z);
 }
-AW_FN float3 ps_throughput(PathRef ps) { return make_float3(PS_F(ps, thr_r), PS_F(ps, thr_g), PS_F(ps, thr_b)); }
-AW_FN void ps_set_throughput(PathRef ps, float3 t) { PS_F(ps, thr_r) = t.x; PS_F(ps, thr_g) = t.y; PS_F(ps, thr_b) = t.z; }
-AW_FN float3 ps_radiance(PathRef ps) { return make_float3(PS_F(ps, rad_r), PS_F(ps, rad_g), PS_F(ps, rad_b)); }
-AW_FN void ps_add_radiance(PathRef ps, float3 l) { PS_F(ps, rad_r) += l.x; PS_F(ps, rad_g) += l.y; PS_F(ps, rad_b) += l.z; }
-AW_FN float3 ps_sp_position(PathRef ps) { return make_float3(PS_F(ps, sp_px), PS_F(ps, sp_py), PS_F(ps, sp_pz)); }
-AW_FN float3 ps_sp_normal(PathRef ps) { return make_float3(PS_F(ps, sp_nx), PS_F(ps, sp_ny), PS_F(ps, sp_nz)); }
-AW_FN float3 ps_sp_tangent(PathRef ps) { return make_float3(PS_F(ps, sp_tx), PS_F(ps, sp_ty), PS_F(ps, sp_tz)); }
-AW_FN float3 ps_lobe_weight(PathRef ps) { return make_float3(PS_F(ps, lobe_wr), PS_F(ps, lobe_wg), PS_F(ps, lobe_wb)); }
-AW_FN float3 ps_sp_unbumped_normal(PathRef ps) { return make_float3(PS_F(ps, sp_bx), PS_F(ps, sp_by), PS_F(ps, sp_bz)); }
-AW_FN float3 ps_sp_geo_normal(PathRef ps) { return make_float3(PS_F(ps, sp_gx), PS_F(ps, sp_gy), PS_F(ps, sp_gz)); }
+AW_FN lfloat3 ps_throughput(PathRef ps) { return make_lfloat3(PS_LF(ps, thr_r), PS_LF(ps, thr_g), PS_LF(ps, thr_b)); }
+AW_FN void ps_set_throughput(PathRef ps, lfloat3 t) {
+  PS_SET_F(ps, thr_r, t.x); PS_SET_F(ps, thr_g, t.y); PS_SET_F(ps, thr_b, t.z);
+}
+AW_FN lfloat3 ps_radiance(PathRef ps) { return make_lfloat3(PS_LF(ps, rad_r), PS_LF(ps, rad_g), PS_LF(ps, rad_b)); }
+AW_FN void ps_add_radiance(PathRef ps, lfloat3 l) {
+  PS_SET_F(ps, rad_r, PS_LF(ps, rad_r) + l.x); PS_SET_F(ps, rad_g, PS_LF(ps, rad_g) + l.y); PS_SET_F(ps, rad_b, PS_LF(ps, rad_b) + l.z);
+}
+AW_FN lfloat3 ps_sp_position(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_px), PS_LF(ps, sp_py), PS_LF(ps, sp_pz)); }
+AW_FN lfloat3 ps_sp_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_nx), PS_LF(ps, sp_ny), PS_LF(ps, sp_nz)); }
+AW_FN lfloat3 ps_sp_tangent(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_tx), PS_LF(ps, sp_ty), PS_LF(ps, sp_tz)); }
+AW_FN lfloat3 ps_lobe_weight(PathRef ps) { return make_lfloat3(PS_LF(ps, lobe_wr), PS_LF(ps, lobe_wg), PS_LF(ps, lobe_wb)); }
+AW_FN lfloat3 ps_sp_unbumped_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_bx), PS_LF(ps, sp_by), PS_LF(ps, sp_bz)); }
+AW_FN lfloat3 ps_sp_geo_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_gx), PS_LF(ps, sp_gy), PS_LF(ps, sp_gz)); }
 
 // Writes the closest hit of the extension ray (both intersectors end here).
 AW_FN void ps_set_hit(PathRef ps, float t, float u, float v, uint prim, uint inst, uint light) {

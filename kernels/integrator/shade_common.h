@@ -8,37 +8,39 @@
 #include "common/sampling.h"
 #include "integrator/path_state.h"
 #include "integrator/queues.h"
-#include "integrator/scene_ref.h"
-#include "integrator/light_select.h"
+#include "lights/lights.h"
 #include "lobes/lobe.h"
 
+// Written on lanes (common/lanes.h; path_state.h for the state's reads and writes): at
+// AW_LANES = 1 one path, the scalar code; at W > 1 a block of W paths, those of PS_LIVE.
+
 // Writes the shadow ray for a light sample whose unoccluded contribution is `contrib`.
-AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, uint light, float3 contrib) {
-  float3 o = offset_ray_origin(p, ng, PS_F(ps, sp_err));
-  float3 wi = ls.wi;
-  float tmax = ls.dist;
+AW_FN void shade_emit_shadow(PathRef ps, lfloat3 p, lfloat3 ng, LightSample ls, luint light, lfloat3 contrib) {
+  lfloat3 o = offset_ray_origin(p, ng, PS_LF(ps, sp_err));
+  lfloat3 wi = ls.wi;
+  lfloat tmax = ls.dist;
   // A light at a finite distance: the ray aims from the offset origin at the sampled point
   // itself and stops just short of it (pbrt-v4 Sec. 6.8.6, SpawnRayTo). Along wi from the
   // offset origin it would cross the light's plane earlier than dist by the offset over the
   // cosine: a light-sampled mesh's own triangles (in the BVH, where sh_light does not skip
   // them) occluded 97% of the samples from a floor 100 units wide (offset 2.7e-4;
   // ManyLights.LightSampledMeshQuadMatchesLambertsFormula). Lights at infinity keep wi.
-  if (ls.dist < AW_INFINITE_DISTANCE) {
-    float3 d = (p + ls.wi * ls.dist) - o;
-    float len = sqrt(dot(d, d));
-    if (len > 0.0f && isfinite(len)) {
-      wi = d / len;
-      tmax = len;
-    }
+  lmask finite = ls.dist < AW_INFINITE_DISTANCE;
+  if (L_ANY(finite)) {
+    lfloat3 d = l3_sub(l3_add(p, l3_scale(ls.wi, ls.dist)), o);
+    lfloat len = sqrt(l3_dot(d, d));
+    lmask to_point = finite && len > 0.0f && isfinite(len);
+    wi = l3_sel(to_point, l3_div(d, len), wi);
+    tmax = L_SEL(to_point, len, tmax);
   }
-  PS_F(ps, sh_ox) = o.x; PS_F(ps, sh_oy) = o.y; PS_F(ps, sh_oz) = o.z;
-  PS_F(ps, sh_dx) = wi.x; PS_F(ps, sh_dy) = wi.y; PS_F(ps, sh_dz) = wi.z;
+  PS_SET_F(ps, sh_ox, o.x); PS_SET_F(ps, sh_oy, o.y); PS_SET_F(ps, sh_oz, o.z);
+  PS_SET_F(ps, sh_dx, wi.x); PS_SET_F(ps, sh_dy, wi.y); PS_SET_F(ps, sh_dz, wi.z);
   // Stop just short of the light: the sampled point lies on the light itself (which the
   // shadow test skips anyway for analytic lights, see sh_light).
-  PS_F(ps, sh_tmax) = tmax * (1.0f - 1e-4f);
-  PS_F(ps, sh_r) = contrib.x; PS_F(ps, sh_g) = contrib.y; PS_F(ps, sh_b) = contrib.z;
-  PS_U(ps, sh_light) = light;
-  PS_U(ps, flags) |= AW_PATH_HAS_SHADOW;
+  PS_SET_F(ps, sh_tmax, tmax * (1.0f - 1e-4f));
+  PS_SET_F(ps, sh_r, contrib.x); PS_SET_F(ps, sh_g, contrib.y); PS_SET_F(ps, sh_b, contrib.z);
+  PS_SET_U(ps, sh_light, light);
+  PS_SET_U(ps, flags, PS_LU(ps, flags) | AW_PATH_HAS_SHADOW);
 }
 
 // Continues the path along a sampled lobe direction (s.weight already includes the lobe's
@@ -49,49 +51,62 @@ AW_FN void shade_emit_shadow(PathRef ps, float3 p, float3 ng, LightSample ls, ui
 // race's scenes, docs/architecture.md#russian-roulette); below `cutoff` (render.cutoff, or a
 // lobe's cut-off threshold) the survival is m / cutoff, so weak paths stop early
 // without bias (docs/material.md §5: the realisation of the cut-off thresholds).
-AW_FN int shade_continue(PathRef ps, const RenderParams* rp, float3 p, float3 ng, LobeSample s, float cutoff) {
-  uint bounce = PS_U(ps, bounce);
+// Returns each path's next queue, AW_Q_RAY or AW_Q_DONE.
+AW_FN luint shade_continue(PathRef ps, const RenderParams* rp, lfloat3 p, lfloat3 ng, LobeSample s, lfloat cutoff) {
+  const luint done = (luint)(AW_Q_DONE);
+  luint bounce = PS_LU(ps, bounce);
   // No depth test here: the ray is traced even from the last allowed vertex, because light
   // sampling at this vertex was MIS-weighted against it; classify_hit ends the path at the
   // next surface instead.
-  if (s.flags == 0u) return AW_Q_DONE;
-  float3 wi = s.wi;
+  lmask go = s.flags != 0u;
+  lfloat3 wi = s.wi;
   // A direction on the wrong side of the geometric surface (possible with interpolated
   // normals) would leak through the mesh: end the path instead.
-  int transmit = (s.flags & AW_LOBE_TRANSMISSION) != 0u;
-  float cg = dot(wi, ng);
-  if (transmit ? cg >= 0.0f : cg <= 0.0f) return AW_Q_DONE;
+  lmask transmit = (s.flags & AW_LOBE_TRANSMISSION) != 0u;
+  lfloat cg = l3_dot(wi, ng);
+  go = go && !L_SEL(transmit, cg >= 0.0f, cg <= 0.0f);
 
-  float3 thr = ps_throughput(ps) * s.weight;
+  lfloat3 thr = l3_mul(ps_throughput(ps), s.weight);
   // Roulette judges the throughput without the radiance scaling of refraction (Pharr, Jakob
   // & Humphreys, pbrt-v4, the path integrator's etaScale; Veach 1997, Sec. 5.2, for the
   // 1/eta^2 itself; docs/architecture.md#russian-roulette): entering glass of index 1.5 scales radiance
   // by 1/2.25 and leaving it undoes that, so a path inside would otherwise be killed 56% of
   // the time for a factor that cancels. Thin walls and reflections leave eta_scale at 1.
-  float eta_scale = PS_F(ps, eta_scale) * s.eta_scale;
-  float m = max3(thr) * eta_scale;
-  if (!(m > 0.0f) || !isfinite(m)) return AW_Q_DONE;
-  PS_F(ps, eta_scale) = eta_scale;
-  float q = 1.0f;
-  if (bounce + 1u >= rp->rr_depth) q = fmin(1.0f, sqrt(m));
-  if (m < cutoff) q = fmin(q, m / cutoff);
-  if (q < 1.0f) {
-    float u = rng_1d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_RR);
-    if (u >= q) return AW_Q_DONE;
-    thr = thr / q;
+  lfloat eta_scale = PS_LF(ps, eta_scale) * s.eta_scale;
+  lfloat m = l3_max3(thr) * eta_scale;
+  go = go && m > 0.0f && isfinite(m);
+  PS_KEEP(ps, go);
+  if (!L_ANY(go)) return done;
+  PS_SET_F(ps, eta_scale, eta_scale);
+  lfloat q = (lfloat)(1.0f);
+  q = L_SEL(bounce + 1u >= rp->rr_depth, fmin((lfloat)(1.0f), sqrt(m)), q);
+  q = L_SEL(m < cutoff, fmin(q, m / cutoff), q);
+  lmask roulette = q < 1.0f;
+  if (L_ANY(roulette)) {
+    lfloat u = rng_1d(rp_sampler(rp), PS_LU(ps, pixel), PS_LU(ps, sample), bounce, AW_DIM_RR);
+    go = go && !(roulette && u >= q);
+    PS_KEEP(ps, go);
+    if (!L_ANY(go)) return done;
+    thr = l3_sel(roulette, l3_div(thr, q), thr);
   }
   ps_set_throughput(ps, thr);
-  PS_F(ps, bsdf_pdf) = s.pdf;  // the lobe's own density: see the MIS note in shade_surface
+  PS_SET_F(ps, bsdf_pdf, s.pdf);  // the lobe's own density: see the MIS note in shade_surface
   // The ray cone widens by the lobe's angular spread, taken as 1/sqrt(pdf): the solid angle a
   // sample of density pdf stands for (the footprint of path differentials by the sampling
   // density: Suykens & Willems 2001, "Path Differentials and Applications", EGWR, Sec. 4);
   // a delta lobe keeps it (a mirror's curvature is ignored). Bounded by pi/2.
-  if (!(s.flags & AW_LOBE_SPECULAR) && s.pdf > 0.0f) PS_F(ps, cone_s) += fmin(1.0f / sqrt(s.pdf), 1.5707964f);
-  if (s.flags & AW_LOBE_SPECULAR) PS_U(ps, flags) |= AW_PATH_SPECULAR;
-  else PS_U(ps, flags) &= ~AW_PATH_SPECULAR;
-  ps_set_ray(ps, offset_ray_origin(p, transmit ? -ng : ng, PS_F(ps, sp_err)), wi);
-  PS_U(ps, bounce) = bounce + 1u;
-  return AW_Q_RAY;
+  lmask specular = (s.flags & AW_LOBE_SPECULAR) != 0u;
+  lmask widen = !specular && s.pdf > 0.0f;
+  if (L_ANY(widen)) {
+    PathRef pw = ps;
+    PS_KEEP(pw, widen);
+    PS_SET_F(pw, cone_s, PS_LF(pw, cone_s) + fmin(1.0f / sqrt(s.pdf), 1.5707964f));
+  }
+  luint flags = PS_LU(ps, flags);
+  PS_SET_U(ps, flags, L_SEL(specular, flags | AW_PATH_SPECULAR, flags & ~AW_PATH_SPECULAR));
+  ps_set_ray(ps, offset_ray_origin(p, l3_sel(transmit, l3_neg(ng), ng), PS_LF(ps, sp_err)), wi);
+  PS_SET_U(ps, bounce, bounce + 1u);
+  return L_SEL(go, (luint)(AW_Q_RAY), done);
 }
 
 #endif

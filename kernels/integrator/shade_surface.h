@@ -8,16 +8,26 @@
 
 #include "common/features.h"
 #include "integrator/aov.h"
+#include "integrator/light_select.h"
+#include "integrator/scene_ref.h"
 #include "integrator/shade_common.h"
 #include "integrator/shading_material.h"
 #include "integrator/split.h"
 #include "material/lobes.h"
 
-AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint lid) {
-  float3 p = ps_sp_position(ps);
-  float3 ng = ps_sp_geo_normal(ps);
-  const AW_GLOBAL MaterialGpu* m = shading_material(ps, sc);
-  float3 n = shading_normal_for_lobe(ps, m, lid);
+// Written on lanes (common/lanes.h): at W > 1 for the lobes of AW_LOBE_LIST_ON_LANES
+// (material/lobe_list.h), none of which is a reflection or refraction lobe, in a program for
+// scenes without AOVs; those parts are one path per call (AW_LANES == 1). Lobe splitting is
+// left out at W > 1 too, and that is exact: a split starts only in the stage of a lobe with
+// per-lobe `samples` (lobe_split_count is 1 for the others), and no lobe on lanes has them
+// (the diffuse lobe's material_diffuse_samples is 0); a split path's later vertices shade as
+// any path's.
+AW_FN luint shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint lid) {
+  lfloat3 p = ps_sp_position(ps);
+  lfloat3 ng = ps_sp_geo_normal(ps);
+  MatL m = shading_material(ps, sc);
+  lfloat3 n = shading_normal_for_lobe(ps, m, lid);
+#if AW_LANES == 1
   aov_first_scatter(ps, rp, lid);  // the light groups: everything from here on is this lobe's
   // Per-lobe samples: split this lobe at the first scattering vertex (docs/material.md §6). The
   // snapshot is taken before this stage changes anything, so every split starts here.
@@ -28,47 +38,60 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
       else PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;  // never silently unsplit
     }
   }
-  int front = (PS_U(ps, flags) & AW_PATH_FRONT) != 0u;
+#endif
+  lmask front = (PS_LU(ps, flags) & AW_PATH_FRONT) != 0u;
   LobeSetup l = lobe_setup(m, lid, front);
-  int is_refl = (l.traits & AW_LT_REFLECTION) != 0u;
-  float3 t, b;
+  int is_refl = (l.traits & AW_LT_REFLECTION) != 0u;  // the stage's lobe: the same in every lane
+  lfloat3 t, b;
+#if AW_LANES == 1
   if (is_refl) material_reflection_frame(m, n, ps_sp_tangent(ps), &t, &b);
   else make_frame(n, &t, &b);
-  float3 wo = frame_to_local(-ps_ray_dir(ps), t, b, n);
-  float3 lw = ps_lobe_weight(ps);
+#else
+  make_frame(n, &t, &b);
+#endif
+  lfloat3 wo = frame_to_local(l3_neg(ps_ray_dir(ps)), t, b, n);
+  lfloat3 lw = ps_lobe_weight(ps);
   // highlight_vs_reflection: scales light reached through a reflection lobe, in both
   // estimators (light sampling here, BSDF sampling via emit_scale), so MIS stays consistent.
-  float hvr = l.hvr;
-  PS_U(ps, flags) &= ~AW_PATH_HAS_SHADOW;
+  lfloat hvr = l.hvr;
+  PS_SET_U(ps, flags, PS_LU(ps, flags) & ~AW_PATH_HAS_SHADOW);
 
   // Next-event estimation (not for delta lobes: their pdf is 0 for any light direction).
   if (rp->num_lights > 0u) {
-    uint light;
-    float pdf_light;
+    luint light;
+    lfloat pdf_light;
     LightSample ls = shade_pick_light(ps, sc, rp, p, &light, &pdf_light);
-    float cg = dot(ls.wi, ng);
+    lfloat cg = l3_dot(ls.wi, ng);
     int transmit_lobe = (l.traits & AW_LT_TRANSMIT) != 0u;
-    if (pdf_light > 0.0f && (transmit_lobe ? cg < 0.0f : cg > 0.0f)) {
-      float3 wi = frame_to_local(ls.wi, t, b, n);
-      float3 f = lobe_eval(&l, wo, wi);
-      if (max3(f) > 0.0f) {
+    lmask toward = pdf_light > 0.0f && (transmit_lobe ? cg < 0.0f : cg > 0.0f);
+    if (L_ANY(toward)) {
+      lfloat3 wi = frame_to_local(ls.wi, t, b, n);
+      lfloat3 f = lobe_eval(&l, wo, wi);
+      lmask reach = toward && l3_max3(f) > 0.0f;
+      if (L_ANY(reach)) {
         // One-sample estimate of this lobe's share: lw = scale / probability (see
         // classify_hit). Within the lobe, light sampling is MIS-weighted against the lobe's
         // own sampling; classify_hit weighs emission found by the lobe's ray the same way.
-        float w = ls.is_delta ? 1.0f : mis_power(pdf_light, lobe_pdf(&l, wo, wi));
-        float3 contrib = ps_throughput(ps) * lw * f * ls.le * (w * hvr / pdf_light);
-        if (max3(contrib) > 0.0f) shade_emit_shadow(ps, p, transmit_lobe ? -ng : ng, ls, light, contrib);
+        lfloat w = L_SEL(ls.is_delta, (lfloat)(1.0f), mis_power(pdf_light, lobe_pdf(&l, wo, wi)));
+        lfloat3 contrib = l3_scale(l3_mul(l3_mul(l3_mul(ps_throughput(ps), lw), f), ls.le), w * hvr / pdf_light);
+        lmask emit = reach && l3_max3(contrib) > 0.0f;
+        if (L_ANY(emit)) {
+          PathRef pe = ps;
+          PS_KEEP(pe, emit);
+          shade_emit_shadow(pe, p, transmit_lobe ? l3_neg(ng) : ng, ls, light, contrib);
+        }
       }
     }
   }
 
-  float2 u = rng_2d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), PS_U(ps, bounce), AW_DIM_BSDF);
+  lfloat2 u = rng_2d(rp_sampler(rp), PS_LU(ps, pixel), PS_LU(ps, sample), PS_LU(ps, bounce), AW_DIM_BSDF);
   LobeSample s = lobe_sample(&l, wo, u);
-  s.weight = s.weight * lw;
+  s.weight = l3_mul(s.weight, lw);
   s.wi = frame_to_world(s.wi, t, b, n);
-  PS_F(ps, emit_scale) = hvr;
+  PS_SET_F(ps, emit_scale, hvr);
 
-  float cutoff = rp->cutoff;
+  lfloat cutoff = (lfloat)(rp->cutoff);
+#if AW_LANES == 1
   uint depths = PS_U(ps, depths);
   if (is_refl) {
     cutoff = fmax(cutoff, l.cutoff);
@@ -85,10 +108,12 @@ AW_FN int shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint li
     // totally internally reflected path does not cross.)
     if (!material_is_thin(m) && m->fog_distance > 0.0f && (s.flags & AW_LOBE_TRANSMISSION))
       PS_U(ps, medium) = front ? PS_U(ps, material) : AW_NONE;
-  } else if (!rp->gi) {
+  } else
+#endif
+  if (!rp->gi) {
     // gi off (the documentation's "no GI" examples): no indirect diffuse. The bounce is still
     // traced, but only to find lights (the MIS partner of the light sample above).
-    PS_U(ps, flags) |= AW_PATH_EMITTERS_ONLY;
+    PS_SET_U(ps, flags, PS_LU(ps, flags) | AW_PATH_EMITTERS_ONLY);
   }
   return shade_continue(ps, rp, p, ng, s, cutoff);
 }

@@ -41,10 +41,12 @@ AW_FN uint split_count(uint samples, uint spp) {
   return n < 1u ? 1u : (n > AW_SPLIT_MAX ? AW_SPLIT_MAX : n);
 }
 
+#if AW_LANES == 1  // (the lobes on lanes start no split: integrator/shade_surface.h)
 // The split count of lobe `lid` of a material (lobes without `samples` report 0: one ray).
 AW_FN uint lobe_split_count(const AW_GLOBAL MaterialGpu* m, uint lid, uint spp) {
   return split_count(lobe_samples(m, lid), spp);
 }
+#endif
 
 // Starts splitting at the first scattering vertex, before the lobe stage touches the state.
 AW_FN void split_begin(PathRef ps, uint n) {

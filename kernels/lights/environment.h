@@ -87,7 +87,10 @@ AW_FN uint env_invert_cdf(const AW_GLOBAL float* cdf, uint n, float u, float* du
   return lo;
 }
 
-// Draws a world direction; returns 0 (and pdf 0) for a map with no power. *texel is the texel
+#if AW_LANES == 1
+// Draws a world direction; returns 0 (and pdf 0) for a map with no power. One path per call:
+// not in a program built on lanes (AW_LANES > 1, common/lanes.h), which is built only for
+// scenes without an environment map (integrator/light_select.h). *texel is the texel
 // sampled, whose radiance the caller takes (the same texel env_radiance would look up).
 AW_FN float3 env_sample(const AW_GLOBAL float* env, const RenderParams* rp, float2 u, float* pdf, uint* texel) {
   uint w = rp->env_width, h = rp->env_height;
@@ -106,5 +109,7 @@ AW_FN float3 env_sample(const AW_GLOBAL float* env, const RenderParams* rp, floa
   *pdf = st > 0.0f && pdf_uv > 0.0f ? pdf_uv / (2.0f * M_PI_F * M_PI_F * st) : 0.0f;
   return env_from_map(rp, make_float3(st * sp, ct, -st * cp));
 }
+
+#endif  // AW_LANES == 1
 
 #endif

@@ -6,12 +6,48 @@
 
 #include "common/compat.h"
 #include "common/features.h"
+#include "common/lanes.h"
 #include "common/sampling.h"
+#include "material/lobe_list.h"
+#include "types/material.h"
+
+// A material to read, on lanes (common/lanes.h): at W = 1 a pointer to one material (the
+// scene's, or the slot's textured copy: integrator/shading_material.h); at W > 1 each lane's
+// material in a table, its fields gathered per lane. Code on lanes reads fields with MAT_F
+// (float) and MAT_U (uint); at W = 1 these are m->field.
+#if AW_LANES == 1
+typedef const AW_GLOBAL MaterialGpu* MatL;
+#define MAT_F(m, field) ((m)->field)
+#define MAT_U(m, field) ((m)->field)
+#else
+typedef struct {
+  const AW_GLOBAL MaterialGpu* table;
+  luint i;
+} MatL;
+#define MAT_F(m, field) L_GATHER(float, (m).table, (m).i, field)
+#define MAT_U(m, field) L_GATHER(uint, (m).table, (m).i, field)
+#endif
+
+// The diffuse lobe's albedo: colour times weight (docs/material.md §1).
+AW_FN lfloat3 material_diffuse_color(MatL m) {
+  return l3_scale(make_lfloat3(MAT_F(m, diffuse_color[0]), MAT_F(m, diffuse_color[1]), MAT_F(m, diffuse_color[2])),
+                  MAT_F(m, diffuse_weight));
+}
+
+// refraction.thin_walled, in builds that have thin walls (common/features.h: a material that
+// sets it without reflecting or transmitting anything is shaded the same either way).
+AW_FN lmask material_is_thin(MatL m) {
+  return AW_FEAT_THIN_WALLED && (MAT_U(m, flags) & AW_MAT_THIN_WALLED) != 0u;
+}
+
+// The rest of the material is one path per call: not in a program built on lanes, which is
+// built only for scenes whose materials need none of it (material/lobe_list.h,
+// AW_LOBE_LIST_ON_LANES).
+#if AW_LANES == 1
+
 #include "lobes/fresnel.h"
 #include "lobes/reflection.h"
 #include "lobes/thin_walled.h"
-#include "material/lobe_list.h"
-#include "types/material.h"
 
 // Per-lobe factors at one shading point. `scale` multiplies the lobe's own value (its eval
 // and sample weight already contain the lobe's colour and, for reflection, Fresnel at the
@@ -22,8 +58,6 @@ typedef struct {
   float albedo[AW_LID_COUNT];  // luminance of each lobe's estimated contribution
 } LobeWeights;
 
-// The diffuse lobe's albedo: colour times weight (docs/material.md §1).
-AW_FN float3 material_diffuse_color(const AW_GLOBAL MaterialGpu* m) { return load_f3(m->diffuse_color) * m->diffuse_weight; }
 
 AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
 
@@ -33,11 +67,6 @@ AW_FN int material_reflection_used(const AW_GLOBAL MaterialGpu* m, uint i) {
   return m->refl[i].weight > 0.0f && positive3(m->refl[i].color);
 }
 
-// refraction.thin_walled, in builds that have thin walls (common/features.h: a material that
-// sets it without reflecting or transmitting anything is shaded the same either way).
-AW_FN int material_is_thin(const AW_GLOBAL MaterialGpu* m) {
-  return AW_FEAT_THIN_WALLED && (m->flags & AW_MAT_THIN_WALLED) != 0u;
-}
 
 // Relative IOR n_far / n_near for a ray arriving from the `entering` side. Thin walls look
 // the same from both sides.
@@ -272,5 +301,7 @@ AW_FN uint material_pick_lobe(const LobeWeights* lw, float u) {
   }
   return last;  // round-off: the last lobe with weight
 }
+
+#endif  // AW_LANES == 1
 
 #endif

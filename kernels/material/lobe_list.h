@@ -24,12 +24,18 @@
 #define AW_LT_TRANSMIT 2u    // lights behind the surface: next-event estimation on the far side
 #define AW_LT_REFRACTION 4u  // crosses the interface: refraction depth, entering or leaving fog
 
+#define AW_LOBE_ROW_DIFFUSE(X) X(DIFFUSE, diffuse, ALWAYS, 0u)
 #define AW_LOBE_LIST(X)                                                         \
-  X(DIFFUSE, diffuse, ALWAYS, 0u)                                               \
+  AW_LOBE_ROW_DIFFUSE(X)                                                        \
   X(TRANSLUCENCY, translucency, TRANSLUCENCY, AW_LT_TRANSMIT)                   \
   X(REFLECTION, reflection, REFLECTION, AW_LT_REFLECTION)                       \
   X(REFLECTION2, reflection2, REFLECTION, AW_LT_REFLECTION)                     \
   X(REFRACTION, refraction, REFRACTION, AW_LT_TRANSMIT | AW_LT_REFRACTION)
+
+// The lobes whose physics is written on lanes (common/lanes.h), so far the diffuse lobe: the
+// lobe dispatch of a program built with W > 1 lanes (material/lobes.h) has only these, and
+// such a program is built only for scenes whose materials use no other.
+#define AW_LOBE_LIST_ON_LANES(X) AW_LOBE_ROW_DIFFUSE(X)
 
 enum {
 #define AW_LOBE_ID(ID, name, FEATURE, TRAITS) AW_LID_##ID,

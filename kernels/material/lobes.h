@@ -15,40 +15,54 @@
 #define AW_MATERIAL_LOBES_H
 
 #include "lobes/diffuse.h"
+#include "material/architectural.h"
+#include "material/lobe_list.h"
+#if AW_LANES == 1
 #include "lobes/reflection.h"
 #include "lobes/refraction.h"
 #include "lobes/thin_walled.h"
 #include "lobes/translucency.h"
-#include "material/architectural.h"
-#include "material/lobe_list.h"
+#endif
+
+// Written on lanes (common/lanes.h) for the lobes of AW_LOBE_LIST_ON_LANES (material/
+// lobe_list.h): at W > 1 the dispatch below has only those, and the other lobes' bindings are
+// left out.
+#if AW_LANES == 1
+#define AW_LOBE_LIST_HERE AW_LOBE_LIST
+#else
+#define AW_LOBE_LIST_HERE AW_LOBE_LIST_ON_LANES
+#endif
 
 // Everything a lobe needs at this shading point, built once per stage invocation.
 typedef struct {
   uint lid;
-  uint traits;      // AW_LT_* (material/lobe_list.h)
-  float3 color;     // diffuse albedo / translucency colour
-  float roughness;  // diffuse
+  uint traits;       // AW_LT_* (material/lobe_list.h)
+  lfloat3 color;     // diffuse albedo / translucency colour
+  lfloat roughness;  // diffuse
+#if AW_LANES == 1
   ReflectionParams refl;
   RefractionParams refr;
-  int thin;          // thin-walled refraction: straight through, blurred when frosted
-  float glossiness;  // of the thin wall
-  float hvr;         // highlight_vs_reflection: scales light reached through the lobe (1 = none)
-  float cutoff;      // the lobe's own cut-off threshold (docs/material.md §5), 0 = none
+#endif
+  lmask thin;         // thin-walled refraction: straight through, blurred when frosted
+  lfloat glossiness;  // of the thin wall
+  lfloat hvr;         // highlight_vs_reflection: scales light reached through the lobe (1 = none)
+  lfloat cutoff;      // the lobe's own cut-off threshold (docs/material.md §5), 0 = none
 } LobeSetup;
 
 /* ------------------------------------ diffuse ------------------------------------------- */
 
-AW_FN void material_diffuse_setup(LobeSetup* l, const AW_GLOBAL MaterialGpu* m, int front) {
+AW_FN void material_diffuse_setup(LobeSetup* l, MatL m, lmask front) {
   l->color = material_diffuse_color(m);
-  if (AW_FEAT_ROUGH_DIFFUSE) l->roughness = m->diffuse_roughness;
+  if (AW_FEAT_ROUGH_DIFFUSE) l->roughness = MAT_F(m, diffuse_roughness);
 }
-AW_FN float3 material_diffuse_eval(const LobeSetup* l, float3 wo, float3 wi) {
+AW_FN lfloat3 material_diffuse_eval(const LobeSetup* l, lfloat3 wo, lfloat3 wi) {
   return lobe_diffuse_eval(l->color, l->roughness, wo, wi);
 }
-AW_FN float material_diffuse_pdf(const LobeSetup* l, float3 wo, float3 wi) { return lobe_diffuse_pdf(l->roughness, wo, wi); }
-AW_FN LobeSample material_diffuse_sample(const LobeSetup* l, float3 wo, float2 u) {
+AW_FN lfloat material_diffuse_pdf(const LobeSetup* l, lfloat3 wo, lfloat3 wi) { return lobe_diffuse_pdf(l->roughness, wo, wi); }
+AW_FN LobeSample material_diffuse_sample(const LobeSetup* l, lfloat3 wo, lfloat2 u) {
   return lobe_diffuse_sample(l->color, l->roughness, wo, u);
 }
+#if AW_LANES == 1
 AW_FN uint material_diffuse_samples(const AW_GLOBAL MaterialGpu* m) { return 0u; }
 AW_FN int material_diffuse_present(const AW_GLOBAL MaterialGpu* m) { return 1; }
 
@@ -138,51 +152,56 @@ AW_FN int material_refraction_present(const AW_GLOBAL MaterialGpu* m) {
   return (material_features(m) & (uint)AW_FEATBIT_REFRACTION) != 0u;
 }
 
+#endif  // AW_LANES == 1: the lobes not yet on lanes
+
 /* ------------------------- the dispatch, generated from the list ------------------------ */
 // In each shading kernel lid is a constant, so every branch but its own folds away; a lobe
 // that the build lacks (AW_FEAT_<FEATURE> = 0) is never reached (classify_hit checks) and
 // compiles out everywhere.
 
-AW_FN LobeSetup lobe_setup(const AW_GLOBAL MaterialGpu* m, uint lid, int front) {
+// (lid is the stage's, the same in every lane.)
+AW_FN LobeSetup lobe_setup(MatL m, uint lid, lmask front) {
   LobeSetup l;
   l.lid = lid;
   l.traits = lobe_traits(lid);
-  l.color = make_float3(0.0f, 0.0f, 0.0f);
-  l.roughness = 0.0f;
-  l.thin = 0;
-  l.glossiness = 1.0f;
-  l.hvr = 1.0f;
-  l.cutoff = 0.0f;
+  l.color = l3_splat((lfloat)(0.0f));
+  l.roughness = (lfloat)(0.0f);
+  l.thin = (lmask)(0);
+  l.glossiness = (lfloat)(1.0f);
+  l.hvr = (lfloat)(1.0f);
+  l.cutoff = (lfloat)(0.0f);
 #define AW_LOBE_SETUP(ID, name, FEATURE, TRAITS) \
   if (AW_FEAT_##FEATURE && lid == (uint)AW_LID_##ID) material_##name##_setup(&l, m, front);
-  AW_LOBE_LIST(AW_LOBE_SETUP)
+  AW_LOBE_LIST_HERE(AW_LOBE_SETUP)
 #undef AW_LOBE_SETUP
   return l;
 }
 
-AW_FN float3 lobe_eval(const LobeSetup* l, float3 wo, float3 wi) {
+AW_FN lfloat3 lobe_eval(const LobeSetup* l, lfloat3 wo, lfloat3 wi) {
 #define AW_LOBE_EVAL(ID, name, FEATURE, TRAITS) \
   if (AW_FEAT_##FEATURE && l->lid == (uint)AW_LID_##ID) return material_##name##_eval(l, wo, wi);
-  AW_LOBE_LIST(AW_LOBE_EVAL)
+  AW_LOBE_LIST_HERE(AW_LOBE_EVAL)
 #undef AW_LOBE_EVAL
-  return make_float3(0.0f, 0.0f, 0.0f);
+  return l3_splat((lfloat)(0.0f));
 }
 
-AW_FN float lobe_pdf(const LobeSetup* l, float3 wo, float3 wi) {
+AW_FN lfloat lobe_pdf(const LobeSetup* l, lfloat3 wo, lfloat3 wi) {
 #define AW_LOBE_PDF(ID, name, FEATURE, TRAITS) \
   if (AW_FEAT_##FEATURE && l->lid == (uint)AW_LID_##ID) return material_##name##_pdf(l, wo, wi);
-  AW_LOBE_LIST(AW_LOBE_PDF)
+  AW_LOBE_LIST_HERE(AW_LOBE_PDF)
 #undef AW_LOBE_PDF
-  return 0.0f;
+  return (lfloat)(0.0f);
 }
 
-AW_FN LobeSample lobe_sample(const LobeSetup* l, float3 wo, float2 u) {
+AW_FN LobeSample lobe_sample(const LobeSetup* l, lfloat3 wo, lfloat2 u) {
 #define AW_LOBE_SAMPLE(ID, name, FEATURE, TRAITS) \
   if (AW_FEAT_##FEATURE && l->lid == (uint)AW_LID_##ID) return material_##name##_sample(l, wo, u);
-  AW_LOBE_LIST(AW_LOBE_SAMPLE)
+  AW_LOBE_LIST_HERE(AW_LOBE_SAMPLE)
 #undef AW_LOBE_SAMPLE
   return lobe_no_sample();
 }
+
+#if AW_LANES == 1
 
 // The per-lobe `samples` of lobe `lid` of material m (0 for lobes without the parameter).
 AW_FN uint lobe_samples(const AW_GLOBAL MaterialGpu* m, uint lid) {
@@ -201,5 +220,7 @@ AW_FN int lobe_present(const AW_GLOBAL MaterialGpu* m, uint lid) {
 #undef AW_LOBE_PRESENT
   return 0;
 }
+
+#endif  // AW_LANES == 1: lobe_samples, lobe_present
 
 #endif

@@ -1,7 +1,7 @@
 // Shared code written on lanes (common/lanes.h), built with 16 paths per work-item, against
 // the host's one-path C++ build of the same functions (tests/integrator/test_sampler.cpp,
 // SamplerLanes.*, SamplingLanes.*, RayLanes.* and DiffuseLanes.*; tests/integrator/
-// test_light_sampling.cpp, LightLanes.*).
+// test_light_sampling.cpp, LightLanes.*; tests/integrator/test_shade_lanes.cpp, ShadeLanes.*).
 //
 // probe_sampler_lanes (common/rng.h)
 // in: n pixels, then n sample indices, then n bounces (uint bits in the float buffer), field-
@@ -13,6 +13,9 @@
 #include "common/sampling.h"
 #include "lobes/diffuse.h"
 #include "lights/lights.h"
+#include "integrator/shade_common.h"
+#include "integrator/light_select.h"
+#include "integrator/shade_surface.h"
 
 __kernel void probe_sampler_lanes(uint n, __global const float* in, __global float* out,
                                   __global const uint* params) {
@@ -163,4 +166,118 @@ __kernel void probe_lights_lanes(uint n, __global const float* in, __global floa
   r[13] = L_UINT_AS_FLOAT(light_pick(lights, params[0], v[10]));
   l_sincos(v[11], &r[14], &r[15]);
   for (uint k = 0u; k < AW_PROBE_LIGHTS_LANES_OUT; ++k) L_STORE(r[k], out + k * n, g);
+}
+
+// The path state of probe_shade_lanes and probe_shade_surface_lanes: `in` holds it (AW_SF_COUNT
+// float fields of n slots, then AW_SU_COUNT uint fields), copied to `out`, where work-item g's
+// 16 slots are shaded: the PathRef of that block, `live` its lanes of the stage.
+static PathRef probe_state_lanes(uint n, __global const float* in, __global float* out, uint g, lmask live) {
+  const uint nstate = (uint)AW_SF_COUNT + (uint)AW_SU_COUNT;
+  for (uint f = 0u; f < nstate; ++f) L_STORE(L_LOAD(in + f * n, g), out + f * n, g);
+  PathRef ps;
+  ps.sf = out;
+  ps.su = (__global uint*)(out + (uint)AW_SF_COUNT * n);
+  ps.snap_f = 0;
+  ps.snap_u = 0;
+  ps.aov = 0;
+  ps.pool = n;
+  ps.slot = g * AW_LANES;
+  ps.live = live;
+  return ps;
+}
+
+// probe_shade_lanes (integrator/shade_common.h: shade_emit_shadow, shade_continue, on a path
+// state of n slots in blocks of 16)
+// in: the path state (AW_SF_COUNT float fields of n slots, then AW_SU_COUNT uint fields),
+//     then AW_PROBE_SHADE_LANES_IN fields of n values: live (0 or 1), p (3), ng (3), the lobe
+//     sample's wi (3), weight (3), pdf, flags (the uint's bits) and eta_scale, the cut-off,
+//     the light sample's wi (3) and dist, the light (bits), the contribution (3), and whether
+//     to emit the shadow ray (0 or 1).
+// rp: the RenderParams.
+// out: the path state after the stage (as in), then shade_continue's queue (bits) per slot.
+#define AW_PROBE_SHADE_LANES_IN 26
+__kernel void probe_shade_lanes(uint n, __global const float* in, __global float* out,
+                                __global const RenderParams* rpg) {
+  uint g = get_global_id(0);
+  if ((g + 1u) * AW_LANES > n) return;
+  const uint nstate = (uint)AW_SF_COUNT + (uint)AW_SU_COUNT;
+  lfloat v[AW_PROBE_SHADE_LANES_IN];
+  for (uint k = 0u; k < AW_PROBE_SHADE_LANES_IN; ++k) v[k] = L_LOAD(in + (nstate + k) * n, g);
+  PathRef ps = probe_state_lanes(n, in, out, g, v[0] != 0.0f);
+  RenderParams rp = *rpg;
+  lfloat3 p = make_lfloat3(v[1], v[2], v[3]), ng = make_lfloat3(v[4], v[5], v[6]);
+  LobeSample s;
+  s.wi = make_lfloat3(v[7], v[8], v[9]);
+  s.weight = make_lfloat3(v[10], v[11], v[12]);
+  s.pdf = v[13];
+  s.flags = L_AS_UINT(v[14]);
+  s.eta_scale = v[15];
+  LightSample ls;
+  ls.wi = make_lfloat3(v[17], v[18], v[19]);
+  ls.dist = v[20];
+  ls.le = l3_splat((lfloat)(0.0f));
+  ls.pdf = (lfloat)(0.0f);
+  ls.is_delta = (lmask)(0);
+  lmask emit = v[25] != 0.0f;
+  if (L_ANY(emit && ps.live)) {
+    PathRef pe = ps;
+    PS_KEEP(pe, emit);
+    shade_emit_shadow(pe, p, ng, ls, L_AS_UINT(v[21]), make_lfloat3(v[22], v[23], v[24]));
+  }
+  luint q = shade_continue(ps, &rp, p, ng, s, v[16]);
+  L_STORE(L_UINT_AS_FLOAT(q), out + nstate * n, g);
+}
+
+// probe_pick_light_lanes (integrator/light_select.h: shade_pick_light, the alias table)
+// in: the path state's uint fields (AW_SU_COUNT fields of n slots: pixel, sample and bounce
+//     are read), then the shading point p (3 fields of n values).
+// lights: the light table; rp: the RenderParams (num_lights, the sampler).
+// out: the light sample's wi (3), dist, le (3), pdf, is_delta (1 or 0), the light picked
+//      (bits) and the combined pdf.
+#define AW_PROBE_PICK_LANES_OUT 11
+__kernel void probe_pick_light_lanes(uint n, __global const float* in, __global float* out,
+                                     __global const LightGpu* lights, __global const RenderParams* rpg) {
+  uint g = get_global_id(0);
+  if ((g + 1u) * AW_LANES > n) return;
+  PathRef ps;
+  ps.sf = 0;
+  ps.su = (__global uint*)in;
+  ps.snap_f = 0;
+  ps.snap_u = 0;
+  ps.aov = 0;
+  ps.pool = n;
+  ps.slot = g * AW_LANES;
+  ps.live = (lmask)(-1);
+  const __global float* pin = in + (uint)AW_SU_COUNT * n;
+  lfloat3 p = make_lfloat3(L_LOAD(pin, g), L_LOAD(pin + n, g), L_LOAD(pin + 2u * n, g));
+  SceneRef sc;
+  sc.lights = lights;
+  RenderParams rp = *rpg;
+  luint light;
+  lfloat pdf;
+  LightSample s = shade_pick_light(ps, sc, &rp, p, &light, &pdf);
+  lfloat r[AW_PROBE_PICK_LANES_OUT] = {s.wi.x, s.wi.y, s.wi.z, s.dist, s.le.x, s.le.y, s.le.z, s.pdf,
+                                       L_SEL(s.is_delta != 0, (lfloat)(1.0f), (lfloat)(0.0f)),
+                                       L_UINT_AS_FLOAT(light), pdf};
+  for (uint k = 0u; k < AW_PROBE_PICK_LANES_OUT; ++k) L_STORE(r[k], out + k * n, g);
+}
+
+// probe_shade_surface_lanes (integrator/shade_surface.h: the whole diffuse shading stage, on a
+// path state of n slots in blocks of 16)
+// in: the path state (as probe_shade_lanes), then one field of n values: live (0 or 1).
+// materials, lights: the scene's tables; rp: the RenderParams.
+// out: the path state after the stage, then the stage's next queue (bits) per slot.
+__kernel void probe_shade_surface_lanes(uint n, __global const float* in, __global float* out,
+                                        __global const MaterialGpu* materials, __global const LightGpu* lights,
+                                        __global const RenderParams* rpg) {
+  uint g = get_global_id(0);
+  if ((g + 1u) * AW_LANES > n) return;
+  const uint nstate = (uint)AW_SF_COUNT + (uint)AW_SU_COUNT;
+  PathRef ps = probe_state_lanes(n, in, out, g, L_LOAD(in + nstate * n, g) != 0.0f);
+  SceneRef sc;
+  sc.materials = materials;
+  sc.lights = lights;
+  RenderParams rp = *rpg;
+  luint q = shade_surface(ps, sc, &rp, (uint)AW_LID_DIFFUSE);
+  L_STORE(L_UINT_AS_FLOAT(q), out + nstate * n, g);
 }

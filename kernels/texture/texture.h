@@ -126,10 +126,10 @@ AW_FN float checker_wave_mean(float x, float f) {
 
 // Perlin's gradient noise in 2-D (Perlin 2002, "Improving Noise", SIGGRAPH: the quintic fade
 // 6t^5 - 15t^4 + 10t^3 and gradients chosen by hashing the lattice point), with eight
-// gradient directions and the lattice hashed by pcg_hash (common/rng.h) instead of a
+// gradient directions and the lattice hashed by pcg_hash1 (common/rng.h) instead of a
 // permutation table, so no table has to be shared between host and device. About [-0.71, 0.71].
 AW_FN float noise_grad(uint ix, uint iy, float dx, float dy) {
-  uint hsh = pcg_hash(ix * 0x8da6b343u ^ pcg_hash(iy)) & 7u;
+  uint hsh = pcg_hash1(ix * 0x8da6b343u ^ pcg_hash1(iy)) & 7u;
   const float d = 0.70710678f;
   float gx = hsh < 2u ? (hsh == 0u ? 1.0f : -1.0f) : (hsh < 4u ? 0.0f : ((hsh & 1u) ? -d : d));
   float gy = hsh < 2u ? 0.0f : (hsh < 4u ? (hsh == 2u ? 1.0f : -1.0f) : ((hsh & 2u) ? -d : d));

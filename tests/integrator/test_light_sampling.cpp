@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "kernels/integrator/light_select.h"
 #include "kernels/lights/lights.h"
 #include "tests/lobes/lobe_harness.h"
 
@@ -226,9 +227,10 @@ std::vector<LightGpu> lane_test_lights(std::mt19937& rng) {
     ls.push_back(sun);
   }
   std::uniform_int_distribution<uint32_t> pick(0, uint32_t(ls.size()) - 1u);
-  for (LightGpu& l : ls) {
+  for (LightGpu& l : ls) {  // a table to pick from (not a consistent distribution: a test of bits)
     l.alias_q = uni(rng);
     l.alias = pick(rng);
+    l.select_pdf = 1.0f / float(ls.size());
   }
   return ls;
 }
@@ -291,6 +293,64 @@ TEST(LightLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
   EXPECT_EQ(differ, 0u);
   EXPECT_GT(sampled, n / 2);       // most samples are live ones
   EXPECT_GT(by_solid_angle, 300u);  // and the spherical rectangles ran
+}
+
+// Next-event estimation's choice of a light and of a point on it (shade_pick_light: the alias
+// table, the sampler's dimensions, the combined density), 16 paths per work-item against the
+// host, bit for bit, for one light (no pick drawn) and for the whole table.
+TEST(LightLanes, PickingALightEqualsTheHostBitForBit) {
+  const uint32_t n = 4096, nu = AW_SU_COUNT;
+  std::mt19937 rng(51207);
+  std::uniform_real_distribution<float> box(-1.0f, 1.0f);
+  const std::vector<LightGpu> lights = lane_test_lights(rng);
+  std::vector<float> in((nu + 3) * n, 0.0f);
+  std::vector<uint32_t> su(nu * n, 0u);
+  for (uint32_t i = 0; i < n; ++i) {
+    su[AW_SU_pixel * n + i] = rng() % 65536u;
+    su[AW_SU_sample * n + i] = rng() % 256u;
+    su[AW_SU_bounce * n + i] = rng() % 6u;
+    for (uint32_t k = 0; k < 3; ++k) in[(nu + k) * n + i] = box(rng);
+  }
+  std::memcpy(in.data(), su.data(), su.size() * 4);
+  for (uint32_t num : {1u, uint32_t(lights.size())}) {
+    RenderParams rp;
+    std::memset(&rp, 0, sizeof rp);
+    rp.sampler = AW_SAMPLER_SOBOL;
+    rp.seed = 3u;
+    rp.num_lights = num;
+    const uint32_t outs = 11;
+    std::vector<float> dev = aw::lobe_test::run_device_probe(
+        "tests/probe_lanes.cl", "probe_pick_light_lanes", in, outs, n,
+        {{lights.data(), lights.size() * sizeof(LightGpu)}, {&rp, sizeof rp}});
+    SceneRef sc;
+    std::memset(&sc, 0, sizeof sc);
+    sc.lights = lights.data();
+    size_t differ = 0, live = 0;
+    std::vector<size_t> picked(lights.size(), 0);
+    for (uint32_t i = 0; i < n; ++i) {
+      PathRef ps;
+      std::memset(&ps, 0, sizeof ps);
+      ps.su = su.data();
+      ps.pool = n;
+      ps.slot = i;
+      uint32_t light;
+      float pdf;
+      LightSample s = shade_pick_light(ps, sc, &rp, glm::vec3(in[nu * n + i], in[(nu + 1) * n + i], in[(nu + 2) * n + i]),
+                                       &light, &pdf);
+      live += pdf > 0.0f;
+      ++picked[light];
+      float fr[11] = {s.wi.x, s.wi.y, s.wi.z, s.dist, s.le.x, s.le.y, s.le.z, s.pdf, s.is_delta ? 1.0f : 0.0f, 0.0f, pdf};
+      std::memcpy(&fr[9], &light, 4);
+      for (uint32_t k = 0; k < outs; ++k)
+        if (std::memcmp(&fr[k], &dev[k * n + i], 4) != 0 && differ++ < 10)
+          ADD_FAILURE() << num << " lights, output " << k << " at item " << i << ": host " << fr[k] << ", 16 lanes "
+                        << dev[k * n + i];
+    }
+    EXPECT_EQ(differ, 0u) << num << " lights";
+    EXPECT_GT(live, n / 3) << num << " lights";
+    if (num > 1)
+      for (size_t li = 0; li < lights.size(); ++li) EXPECT_GT(picked[li], 0u) << "light " << li << " never picked";
+  }
 }
 
 // l_sincos against double precision over the range a spherical rectangle's angles take and

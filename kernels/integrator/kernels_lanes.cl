@@ -1,0 +1,77 @@
+// The wavefront's entry points built on lanes (common/lanes.h): a program built with
+// -DAW_LANES=16 for CPU devices, beside the one-path program of kernels.cl, with the same
+// parameter list (integrator/stage_kernel.h). Each work-item takes 16 consecutive slots, the
+// lanes of every vector, and the paths among them that are in the stage's queue (their tag,
+// as a dense launch of kernels.cl tests it) are its live lanes; every state field is one
+// vector load, every store a masked read-modify-write (integrator/path_state.h). Why: OpenCL's
+// vector types run at the full SIMD width on PoCL, which runs a work-item's scalar code one
+// path at a time (docs/performance.md, "Paths in explicit lanes").
+//
+// Only what is written on lanes is here: the shading stages of the lobes of
+// AW_LOBE_LIST_ON_LANES (material/lobe_list.h). The host (host/render/wavefront.cpp) builds
+// this program only on a CPU device and for a scene that needs nothing still one path per
+// call (textures and bump maps, the light tree, an environment map, AOVs, zsobol), and
+// launches a lane kernel only for a dense launch; a queue launch runs kernels.cl's.
+#ifdef cl_khr_fp64
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
+
+#if !defined(AW_LANES) || AW_LANES == 1
+#error "kernels_lanes.cl is built with -DAW_LANES=8 or 16"
+#endif
+
+#include "integrator/shade_surface.h"
+#include "integrator/stage_kernel.h"
+#include "material/lobe_list.h"
+
+// The appends of a work-item's W paths: lane k goes to queue q.sk (none when AW_Q_COUNT),
+// slot slot0 + k. Aggregated per work-item, not per work-group as wg_append
+// (stage_kernel.h): one global atomic per queue its lanes name, so at most W paths per atomic
+// and usually several. No barrier: a lane kernel with wg_append's barriers corrupted paths
+// when PoCL 3.1 ran work-groups on two threads, and was right on one (Cornell box, 128x128;
+// with the lanes' queues in local memory too). PoCL keeps a work-item's private values across
+// a barrier in context arrays of the work-group function, which at 16 lanes are 16 times the
+// size of the one-path kernels'; without barriers there are none.
+static inline void append_lanes(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
+                                luint q, uint slot0) {
+  uint qk[AW_LANES];
+  L_STORE(q, qk, 0);
+  uint taken = 0u;  // lanes already appended
+  for (uint k = 0u; k < AW_LANES; ++k) {
+    uint qq = qk[k];
+    if (qq >= AW_Q_COUNT || ((taken >> k) & 1u)) continue;
+    uint lanes = 0u, n = 0u;
+    for (uint j = k; j < AW_LANES; ++j)
+      if (qk[j] == qq) {
+        lanes |= 1u << j;
+        ++n;
+      }
+    taken |= lanes;
+    uint at = atomic_add(&counters[qq], n);
+    for (uint j = k; j < AW_LANES; ++j)
+      if ((lanes >> j) & 1u) {
+        queues[qq * pool + at++] = slot0 + j;
+        if (qq != AW_Q_SHADOW) tags[slot0 + j] = qq;
+      }
+  }
+}
+#define AW_APPEND_LANES(q, slot0) append_lanes(counters, queues, tags, rp.pool_size, (q), (slot0))
+
+// One shading kernel per lobe on lanes: kernel_shade_<name>_lanes, shade_surface on W paths.
+// Launched over pool / W work-items (padded to the group); `count` and `dense` are not read.
+// Built one work-item at a time on Intel's runtime too (AW_SCALAR_KERNEL): the lanes are the
+// vectorisation; the runtime's own, across work-items, would gather 16 blocks per vector.
+#define AW_SHADE_LANES_KERNEL(ID, name, FEATURE, TRAITS)                                        \
+  AW_STAGE_KERNEL_SCALAR(kernel_shade_##name##_lanes) {                                         \
+    uint slot0 = get_global_id(0) * AW_LANES;                                                   \
+    if (!(AW_FEAT_##FEATURE && slot0 + AW_LANES <= rp.pool_size)) return;                       \
+    PathRef ps = AW_STAGE_PATH(slot0);                                                          \
+    ps.live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_LOBE + AW_LID_##ID);                       \
+    if (!L_ANY(ps.live)) return;                                                                \
+    luint q = shade_surface(ps, AW_STAGE_SCENE, &rp, (uint)AW_LID_##ID);                        \
+    lmask shadow = ps.live && (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;                    \
+    AW_APPEND_LANES(L_SEL(shadow, (luint)(AW_Q_SHADOW), (luint)(AW_Q_COUNT)), slot0);           \
+    AW_APPEND_LANES(L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);                             \
+  }
+AW_LOBE_LIST_ON_LANES(AW_SHADE_LANES_KERNEL)
+#undef AW_SHADE_LANES_KERNEL

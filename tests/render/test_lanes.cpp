@@ -1,0 +1,71 @@
+// The stages written on lanes (kernels/integrator/kernels_lanes.cl: 16 paths per work-item on a
+// CPU device) render the film of the one-path kernels bit for bit (docs/performance.md, "Paths
+// in explicit lanes"; docs/testing.md). Each scene renders twice with lanes, since a race
+// between the work-groups PoCL runs on its threads would show as two different films.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "host/render/render.h"
+#include "host/scene/scene.h"
+#include "tests/render/render_test_util.h"
+
+namespace {
+
+size_t differing_words(const aw::RenderResult& a, const aw::RenderResult& b) {
+  if (a.acc.size() != b.acc.size()) return a.acc.size() + b.acc.size();
+  size_t n = 0;
+  for (size_t i = 0; i < a.acc.size(); ++i) n += a.acc[i] != b.acc[i];
+  return n;
+}
+
+// Scenes whose diffuse stage runs on lanes: the Cornell box (quad and point light, Lambert),
+// the race's small sphere light, rough diffuse (EON) under a quad light, and lobes on lanes
+// beside lobes that are not (glass, GGX, lobe splitting: race_spheres); every shading launch
+// dense (the lane kernel's only form) and the default mix of dense and queue launches; with GI
+// and without.
+TEST(Lanes, SameFilmWithAndWithoutLanes) {
+  struct Case {
+    const char* file;
+    std::vector<std::string> defs;
+    double dense_fraction;
+  };
+  const std::vector<std::string> small = {"render.width=96", "render.height=64", "render.spp=8"};
+  const Case cases[] = {{"scenes/cornell.json", {}, 0.0},
+                        {"scenes/cornell.json", {}, -1.0},
+                        {"scenes/cornell.json", {"render.gi=false"}, 0.0},
+                        {"scenes/bench/race_small_light.json", {}, 0.0},
+                        {"scenes/docs/diffuse_roughness_1.json", {}, 0.0},
+                        {"scenes/bench/race_spheres.json", {}, 0.0}};
+  for (const Case& c : cases) {
+    std::vector<std::string> defs = small;
+    defs.insert(defs.end(), c.defs.begin(), c.defs.end());
+    aw::Scene scene = aw::load_scene(aw_test::source_path(c.file), defs);
+    aw::RenderOptions on = aw_test::quiet_options(), off = on;
+    on.dense_fraction = off.dense_fraction = c.dense_fraction;
+    off.lanes = false;
+    aw::RenderResult a = aw::render_wavefront(scene, on), a2 = aw::render_wavefront(scene, on);
+    aw::RenderResult b = aw::render_wavefront(scene, off);
+    const std::string what = std::string(c.file) + " (dense fraction " + std::to_string(c.dense_fraction) + ")";
+    EXPECT_EQ(a.stats.lanes, "16 paths per work-item: shade_diffuse") << what;
+    EXPECT_EQ(b.stats.lanes, "off (--no-lanes)") << what;
+    EXPECT_EQ(differing_words(a, b), 0u) << what << ": lanes against one path per work-item";
+    EXPECT_EQ(differing_words(a, a2), 0u) << what << ": two renders with lanes";
+    EXPECT_EQ(a.stats.bad_samples, 0u) << what;
+  }
+}
+
+// What the lane program leaves out keeps the scene on the one-path kernels, and the stats say why.
+TEST(Lanes, OffForWhatIsStillOnePathPerCall) {
+  aw::Scene zsobol = aw::load_scene(aw_test::source_path("scenes/cornell.json"),
+                                    {"render.width=16", "render.height=16", "render.spp=1", "render.sampler=zsobol"});
+  aw::RenderResult r = aw::render_wavefront(zsobol, aw_test::quiet_options());
+  EXPECT_EQ(r.stats.lanes, "off (the scene needs sampler_zsobol, one path per work-item still)");
+  aw::Scene textured = aw::load_scene(aw_test::source_path("scenes/docs/floor_bump.json"),
+                                      {"render.width=16", "render.height=16", "render.spp=1"});
+  aw::RenderResult t = aw::render_wavefront(textured, aw_test::quiet_options());
+  EXPECT_EQ(t.stats.lanes, "off (the scene needs texture, bump, one path per work-item still)");
+}
+
+}  // namespace
