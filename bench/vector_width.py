@@ -6,7 +6,7 @@ Intel's runtime vectorises a kernel across work-items when its cost model expect
 attribute intel_vec_len_hint(N) (cl_intel_vec_len_hint) overrides that choice. This script
 copies kernels/ into a temporary folder once per variant, sets the attribute of the kernels that
 AW_STAGE_KERNEL declares (the shading stages: as shipped they are built scalar like every other
-stage, integrator/kernels.cl says why; "runtime's choice" removes the attribute), and renders
+stage, integrator/stage_kernel.h says why; "runtime's choice" removes the attribute), and renders
 the same scene with each copy (`archwave --kernels DIR`), the variants interleaved run by run so that the machine's drift
 falls on all of them alike. It prints, per variant, what the runtime's build log says of each
 shading kernel (its width, or "scalar") and its gathers and scatters, then the median seconds
@@ -29,8 +29,9 @@ import sys
 import tempfile
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-# The attribute every shading kernel's declaration carries (integrator/kernels.cl): scalar on
-# Intel's runtime as shipped.
+# The attribute every one-path shading kernel's declaration carries (integrator/stage_kernel.h):
+# scalar on Intel's runtime as shipped. The renders run with --no-lanes, so every shading
+# launch is a one-path kernel (the lane program, kernels_lanes.cl, is its own vectorisation).
 SHADE_ATTR = "#define AW_SHADE_KERNEL_ATTR AW_SCALAR_KERNEL"
 LOG_KERNEL = re.compile(r'Kernel "(kernel_\w+)" was (successfully vectorized \((\d+)\)|not vectorized)')
 LOG_GATHERS = re.compile(r"Kernel was (\d+)-way vectorized(\d+) gathers?(\d+) scatters?")
@@ -46,7 +47,7 @@ def make_variant(root, width):
     None gives them no attribute (the runtime's own choice; as shipped they carry width 1)."""
     dst = os.path.join(root, f"w{width or 'runtime'}")
     shutil.copytree(os.path.join(REPO, "kernels"), dst)
-    path = os.path.join(dst, "integrator", "kernels.cl")
+    path = os.path.join(dst, "integrator", "stage_kernel.h")
     with open(path) as f:
         src = f.read()
     if src.count(SHADE_ATTR) != 1:
@@ -69,7 +70,7 @@ def build_log(args, kdir, env, tmp):
     (width, gathers, scatters) of its largest vectorised candidate or None. A 1-spp render with
     the build log on and the binary cache off."""
     e = dict(env, ARCHWAVE_BUILD_LOG="1", ARCHWAVE_KERNEL_CACHE="0")
-    p = subprocess.run([args.archwave, args.scene, "--kernels", kdir, "--device", args.device, "--spp", "1",
+    p = subprocess.run([args.archwave, args.scene, "--kernels", kdir, "--no-lanes", "--device", args.device, "--spp", "1",
                         "-o", os.path.join(tmp, "log.exr"), "-q"], env=e, capture_output=True, text=True)
     if p.returncode != 0:
         die(f"building {kdir} failed (exit {p.returncode}):\n{p.stderr[-3000:]}")
@@ -85,7 +86,7 @@ def build_log(args, kdir, env, tmp):
 
 def render(args, kdir, env, tmp):
     stats = os.path.join(tmp, "stats.json")
-    p = subprocess.run([args.archwave, args.scene, "--kernels", kdir, "--device", args.device, "--spp",
+    p = subprocess.run([args.archwave, args.scene, "--kernels", kdir, "--no-lanes", "--device", args.device, "--spp",
                         str(args.spp), "-o", os.path.join(tmp, "r.exr"), "-q", "--stats-json", stats],
                        env=env, capture_output=True, text=True)
     if p.returncode != 0:
