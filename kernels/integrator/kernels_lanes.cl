@@ -29,9 +29,11 @@
 // (stage_kernel.h): one global atomic per queue its lanes name, so at most W paths per atomic
 // and usually several. No barrier: a lane kernel with wg_append's barriers corrupted paths
 // when PoCL 3.1 ran work-groups on two threads, and was right on one (Cornell box, 128x128;
-// with the lanes' queues in local memory too). PoCL keeps a work-item's private values across
-// a barrier in context arrays of the work-group function, which at 16 lanes are 16 times the
-// size of the one-path kernels'; without barriers there are none.
+// with the lanes' queues in local memory too), and without barriers it is right and
+// deterministic. Where inside PoCL it goes wrong was not isolated; what differs from the
+// one-path kernels is the size of what each work-item holds around the barriers (PoCL keeps
+// a work-item's values that live across a barrier in context arrays of the work-group
+// function), 16 lanes of every value.
 static inline void append_lanes(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
                                 luint q, uint slot0) {
   uint qk[AW_LANES];
