@@ -180,6 +180,25 @@ bool jpeg_huffman_tables_fit(const unsigned char* b, size_t n, std::string* why)
   return true;
 }
 
+// stb_image decodes a JPEG's whole declared size even when its data ends early (it reads
+// zeros past the end): a 639-byte file declaring 64264 x 2296 texels took over 10 s under the
+// sanitizers (found by tests/fuzz, fuzz_image, 2026-12-05). Every 8 x 8 block of a JPEG's
+// full-resolution component costs at least one bit of entropy-coded data, its DC code in a
+// Huffman-coded baseline or progressive scan (ITU-T T.81 F.1.2.1, G.1.2.1; stb_image decodes
+// no other kind), so a file smaller than one bit per block cannot hold the image it declares
+// and is refused before decoding; real files are far larger than this bound.
+bool jpeg_data_suffices(const unsigned char* b, size_t n, int w, int h, std::string* why) {
+  size_t i = 0;
+  while (i < n && b[i] == 0xFF) ++i;
+  if (i == 0 || i >= n || b[i] != 0xD8) return true;  // not a JPEG
+  const uint64_t blocks = (uint64_t(w) + 7) / 8 * ((uint64_t(h) + 7) / 8);
+  const uint64_t least = (blocks + 7) / 8;
+  if (uint64_t(n) >= least) return true;
+  *why = "a corrupt JPEG: " + std::to_string(w) + " x " + std::to_string(h) + " texels need at least " +
+         std::to_string(least) + " bytes of image data (a bit per 8 x 8 block), the file has " + std::to_string(n);
+  return false;
+}
+
 // stb_image 2.27 (Debian 12) grows its buffer for a PNG's image data (IDAT chunks) to the
 // length a chunk declares, doubling, before it reads the chunk's bytes: a 246-byte PNG whose
 // last IDAT declared 1,187,646,681 bytes made it allocate 2 GiB
@@ -226,6 +245,10 @@ bool decode_texture_image(const unsigned char* bytes, size_t size, TextureDesc* 
     return false;
   }
   if (!check_size(w, h, error)) return false;
+  if (!jpeg_data_suffices(bytes, size, w, h, &why)) {
+    *error = "cannot decode the image (" + why + ")";
+    return false;
+  }
   const bool sixteen = stbi_is_16_bit_from_memory(bytes, int(size)) != 0;
   void* data = sixteen ? static_cast<void*>(stbi_load_16_from_memory(bytes, int(size), &w, &h, &n, 0))
                        : static_cast<void*>(stbi_load_from_memory(bytes, int(size), &w, &h, &n, 0));
