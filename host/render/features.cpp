@@ -40,14 +40,16 @@ std::string FeatureSet::defines() const {
   return buf;
 }
 
+std::string FeatureSet::lower_name(int id) {
+  std::string n = name(id);
+  for (char& c : n) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return n;
+}
+
 std::string FeatureSet::describe() const {
   std::string s;
-  for (int i = 0; i < COUNT; ++i) {
-    if (!on[i]) continue;
-    std::string n = name(i);
-    for (char& c : n) c = char(std::tolower(static_cast<unsigned char>(c)));
-    s += (s.empty() ? "" : " ") + n;
-  }
+  for (int i = 0; i < COUNT; ++i)
+    if (on[i]) s += (s.empty() ? "" : " ") + lower_name(i);
   return s.empty() ? "none" : s;
 }
 

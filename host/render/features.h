@@ -23,6 +23,7 @@ struct FeatureSet {
 
   static FeatureSet all();
   static const char* name(int id);
+  static std::string lower_name(int id);  // name(id) in lower case, as describe() lists it
   uint32_t mask() const;  // AW_FEATBIT_* of the features that are on
   // "-DAW_FEATURES=0x...u" for the OpenCL build (kernels/common/features.h).
   std::string defines() const;

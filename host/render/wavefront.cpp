@@ -11,7 +11,6 @@
 // driver binds the buffers by the generated AW_ARG_* indices (StageBuffers below) and sets
 // the per-launch values the same way, so there is no argument position to keep in step.
 #include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -323,11 +322,7 @@ class Wavefront {
     // `samples`, and the lobes on lanes have none; kernels/integrator/shade_surface.h.)
     for (int i : {FeatureSet::TEXTURE, FeatureSet::BUMP, FeatureSet::LIGHT_TREE, FeatureSet::ENV_MAP, FeatureSet::AOV,
                   FeatureSet::SAMPLER_ZSOBOL})
-      if (need.on[i]) {
-        std::string n = FeatureSet::name(i);
-        for (char& ch : n) ch = char(std::tolower(static_cast<unsigned char>(ch)));
-        why += (why.empty() ? "" : ", ") + n;
-      }
+      if (need.on[i]) why += (why.empty() ? "" : ", ") + FeatureSet::lower_name(i);
     if (!why.empty()) {
       st_.lanes = "off (the scene needs " + why + ", one path per work-item still)";
       return;
