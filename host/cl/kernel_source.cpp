@@ -35,7 +35,11 @@ std::string read_kernel_file(const std::string& rel, const std::string& dir) {
 }
 
 void expand(const std::string& rel, const std::string& dir, std::set<std::string>& seen, std::string& out) {
-  if (!seen.insert(rel).second) return;  // every kernel header has a guard; include once
+  // Every kernel header has a guard: include once. The text goes where the first #include
+  // of it is, so a header first included inside an #if block (as kernels/material/
+  // architectural.h's one-path-only headers are, under #if AW_LANES == 1) is absent where the
+  // block is off: code outside such a block includes what it needs itself, before the block.
+  if (!seen.insert(rel).second) return;
   std::istringstream in(read_kernel_file(rel, dir));
   out += "#line 1 \"kernels/" + rel + "\"\n";
   std::string line;

@@ -309,6 +309,7 @@ class Wavefront {
   // scene that needs nothing the lane program leaves out (its header says what); otherwise
   // every stage runs one path per work-item, and the stats say why.
   void build_lanes_program(const FeatureSet& need, const std::string& options) {
+    classify_on_lanes_ = false;
     if (!opts_.lanes) {
       st_.lanes = "off (--no-lanes)";
       return;
@@ -329,10 +330,18 @@ class Wavefront {
     }
     std::string src = assemble_kernel_source("integrator/kernels_lanes.cl", opts_.kernel_dir);
     lanes_program_ = rt_.build(src, options + " -DAW_LANES=" + std::to_string(kLanes), &st_.compile_seconds);
+    // classify_hit on lanes leaves out more (kernels/integrator/classify_hit.h): the reflection
+    // lobes' sampled split, fog, instances.
+    std::string classify_why;
+    for (int i : {FeatureSet::REFLECTION, FeatureSet::FOG, FeatureSet::INSTANCE})
+      if (need.on[i]) classify_why += (classify_why.empty() ? "" : ", ") + FeatureSet::lower_name(i);
+    classify_on_lanes_ = classify_why.empty();
     st_.lanes = std::to_string(kLanes) + " paths per work-item:";
+    if (classify_on_lanes_) st_.lanes += " classify_hit";
 #define AW_LANES_STAGE_NAME(ID, name, FEATURE, TRAITS) st_.lanes += " shade_" #name;
     AW_LOBE_LIST_ON_LANES(AW_LANES_STAGE_NAME)
 #undef AW_LANES_STAGE_NAME
+    if (!classify_on_lanes_) st_.lanes += " (classify_hit one path per work-item: the scene needs " + classify_why + ")";
   }
 
   void allocate() {
@@ -449,6 +458,11 @@ class Wavefront {
     regen_ = add("regenerate", AW_Q_FREE, false, true, true);
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
     classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
+    if (classify_on_lanes_) {
+      Stage& s = stages_[classify_];
+      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_classify_hit_lanes");
+      bind_stage_args(s.lanes_kernel, buf_);
+    }
     ao_ = add("ambient_occlusion", AW_Q_AO, true, true, features_.on[FeatureSet::AO]);
     for (uint32_t l = 0; l < AW_LID_COUNT; ++l)
       shade_[l] = add(kLobeStageNames[l], AW_Q_LOBE + int(l), true, true, features_.lobe(l));
@@ -642,6 +656,7 @@ class Wavefront {
   FeatureSet features_;
   cl::Program program_;
   cl::Program lanes_program_;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
+  bool classify_on_lanes_ = false;  // its classify_hit too (build_lanes_program)
   RenderParams rp_{};
   uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0;
   uint32_t first_sample_ = 0;  // the sample of job 0 (begin_film)

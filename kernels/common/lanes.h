@@ -22,7 +22,8 @@
 // Which shared code is written on lanes so far (docs/design.md): the samplers of
 // common/rng.h, the warps, frames and MIS weight of common/sampling.h, and the robust ray
 // origins of common/ray.h, the lobe contract (lobes/lobe.h) and the diffuse lobe (lobes/diffuse.h),
-// and the sampling and densities of the analytic lights (lights/lights.h).
+// and the sampling and densities of the analytic lights (lights/lights.h), the path state's
+// access, the diffuse shading stage and classification (integrator/).
 #ifndef AW_COMMON_LANES_H
 #define AW_COMMON_LANES_H
 
@@ -57,6 +58,7 @@ typedef float3 lfloat3;
 #define L_LOAD(p, i) ((p)[i])
 #define L_STORE(v, p, i) ((p)[i] = (v))
 #define L_GATHER(T, base, i, field) ((base)[i].field)
+#define L_GATHER_V(T, base, i) ((base)[i])
 #elif AW_DEVICE && (AW_LANES == 8 || AW_LANES == 16)
 typedef AW_LCAT(float, AW_LANES) lfloat;
 typedef AW_LCAT(uint, AW_LANES) luint;
@@ -108,6 +110,18 @@ AW_FN lfloat3 make_lfloat3(lfloat x, lfloat y, lfloat z) {
                      (base)[(i).s8].field, (base)[(i).s9].field, (base)[(i).sa].field, (base)[(i).sb].field, \
                      (base)[(i).sc].field, (base)[(i).sd].field, (base)[(i).se].field, (base)[(i).sf].field))
 #endif
+// Entry i of each lane of a table of plain values (T: float or uint), one load per lane.
+#if AW_LANES == 8
+#define L_GATHER_V(T, base, i)                                                                       \
+  ((AW_LCAT(T, 8))((base)[(i).s0], (base)[(i).s1], (base)[(i).s2], (base)[(i).s3], (base)[(i).s4], \
+                    (base)[(i).s5], (base)[(i).s6], (base)[(i).s7]))
+#else
+#define L_GATHER_V(T, base, i)                                                                        \
+  ((AW_LCAT(T, 16))((base)[(i).s0], (base)[(i).s1], (base)[(i).s2], (base)[(i).s3], (base)[(i).s4], \
+                     (base)[(i).s5], (base)[(i).s6], (base)[(i).s7], (base)[(i).s8], (base)[(i).s9], \
+                     (base)[(i).sa], (base)[(i).sb], (base)[(i).sc], (base)[(i).sd], (base)[(i).se], \
+                     (base)[(i).sf]))
+#endif
 #else
 #error "AW_LANES must be 1, or 8 or 16 in OpenCL C"
 #endif
@@ -140,6 +154,12 @@ AW_FN lfloat l_safe_sqrt(lfloat x) { return sqrt(fmax(x, (lfloat)(0.0f))); }
 AW_FN lfloat3 l3_splat(lfloat x) { return make_lfloat3(x, x, x); }
 AW_FN lfloat l3_max3(lfloat3 v) { return fmax(v.x, fmax(v.y, v.z)); }  // max3 of compat.h
 AW_FN lfloat3 l3_neg(lfloat3 a) { return make_lfloat3(-a.x, -a.y, -a.z); }
+AW_FN lfloat3 l3_fabs(lfloat3 a) { return make_lfloat3(fabs(a.x), fabs(a.y), fabs(a.z)); }
+// Rec. 709 luminance, luminance() of compat.h on lanes.
+AW_FN lfloat l_luminance(lfloat3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+// Three consecutive floats of a table entry per lane (a colour, a position): L_GATHER of each.
+#define L_GATHER3(base, i, field) \
+  make_lfloat3(L_GATHER(float, base, i, field[0]), L_GATHER(float, base, i, field[1]), L_GATHER(float, base, i, field[2]))
 // cross, length and normalize are written out at every width, W = 1 included, rather than
 // taken from OpenCL's built-ins (or glm's on the host): a built-in may round differently on a
 // float3 and on lanes, and differently on each device (as acos did, below). These are the

@@ -61,20 +61,22 @@ AW_FN lfloat3 offset_ray_origin(lfloat3 p, lfloat3 n, lfloat err) {
 // transform; 0 for world geometry, whose vertices are the very floats the intersector used);
 // all projected on the unit normal ng, plus AW_OFFSET_EXTENT roundoffs of the triangle's size
 // seen from p.
-AW_FN float triangle_point_error(float3 p, float3 p0, float3 p1, float3 p2, float b0, float b1, float b2,
-                                 float3 vert_err, float3 ng) {
-  float3 s = fabs(b0 * p0) + fabs(b1 * p1) + fabs(b2 * p2);
-  float3 e = aw_gamma(2.0f) * fabs(p0) + aw_gamma(3.0f) * s + (1.0f + aw_gamma(3.0f)) * vert_err;
-  float3 d0 = p0 - p, d1 = p1 - p, d2 = p2 - p;
-  float ext2 = fmax(fmax(dot(d0, d0), dot(d1, d1)), dot(d2, d2));
-  return dot(fabs(ng), e) + AW_OFFSET_EXTENT * AW_ROUNDOFF * sqrt(ext2);
+AW_FN lfloat triangle_point_error(lfloat3 p, lfloat3 p0, lfloat3 p1, lfloat3 p2, lfloat b0, lfloat b1, lfloat b2,
+                                  lfloat3 vert_err, lfloat3 ng) {
+  lfloat3 s = l3_add(l3_add(l3_fabs(l3_scale(p0, b0)), l3_fabs(l3_scale(p1, b1))), l3_fabs(l3_scale(p2, b2)));
+  lfloat3 e = l3_add(l3_add(l3_scale(l3_fabs(p0), aw_gamma(2.0f)), l3_scale(s, aw_gamma(3.0f))),
+                     l3_scale(vert_err, 1.0f + aw_gamma(3.0f)));
+  lfloat3 d0 = l3_sub(p0, p), d1 = l3_sub(p1, p), d2 = l3_sub(p2, p);
+  lfloat ext2 = fmax(fmax(l3_dot(d0, d0), l3_dot(d1, d1)), l3_dot(d2, d2));
+  return l3_dot(l3_fabs(ng), e) + AW_OFFSET_EXTENT * AW_ROUNDOFF * sqrt(ext2);
 }
 
 // The same at an analytic sphere's hit p = c + w r (w a unit vector computed with a few
 // roundings, then one rounding of the sum), `vert_err` the centre's own error.
-AW_FN float sphere_point_error(float3 p, float3 w, float r, float3 vert_err, float3 ng) {
-  float3 e = aw_gamma(1.0f) * fabs(p) + aw_gamma(5.0f) * fabs(w * r) + (1.0f + aw_gamma(1.0f)) * vert_err;
-  return dot(fabs(ng), e) + AW_OFFSET_EXTENT * AW_ROUNDOFF * r;
+AW_FN lfloat sphere_point_error(lfloat3 p, lfloat3 w, lfloat r, lfloat3 vert_err, lfloat3 ng) {
+  lfloat3 e = l3_add(l3_add(l3_scale(l3_fabs(p), aw_gamma(1.0f)), l3_scale(l3_fabs(l3_scale(w, r)), aw_gamma(5.0f))),
+                     l3_scale(vert_err, 1.0f + aw_gamma(1.0f)));
+  return l3_dot(l3_fabs(ng), e) + AW_OFFSET_EXTENT * AW_ROUNDOFF * r;
 }
 
 #endif

@@ -3,6 +3,11 @@
 // Adds what the ray saw if it ended (a light, or the environment), otherwise builds the
 // shading point and chooses the lobe that will scatter the path. classify_hit at the end of
 // this file reads as the list of its steps.
+// Written on lanes (common/lanes.h): at W > 1 a block of W paths, those of PS_LIVE. What is
+// still one path per call is left out there with #if AW_LANES == 1: fog, instances, textures
+// and bump maps, AOVs, anisotropic tangents, the reflection lobes' sampled split, the light
+// tree's and the environment map's densities; the host builds this stage on lanes only for
+// scenes that need none of them (host/render/wavefront.cpp, build_lanes_program).
 #ifndef AW_INTEGRATOR_CLASSIFY_HIT_H
 #define AW_INTEGRATOR_CLASSIFY_HIT_H
 
@@ -21,6 +26,7 @@
 #include "material/architectural.h"
 #include "material/lobe_list.h"
 
+#if AW_LANES == 1
 // The vertex in world space, as a private copy: world geometry's own; an instance's (types/bvh.h)
 // with its position, normal and tangent carried through the instance's transform as the loader
 // transforms a mesh it does not share (host/scene/geometry.cpp, finalize_mesh): positions and
@@ -108,40 +114,123 @@ AW_FN float3 interpolated_tangent(const VertexData* v0, const VertexData* v1,
   return triangle_tangent(v0, v1, v2, p0, p1, p2, n, 0u);
 }
 
+#endif
+
 // The shading point of a triangle hit, both normals facing the side the ray came from.
 typedef struct {
-  float3 p;       // on the triangle's plane
-  float3 n;       // shading normal
-  float3 ng;      // geometric normal
-  float3 p0, p1, p2;
-  float b0, b1, b2;  // barycentrics of p
-  int front;      // the ray arrived on the outside of the surface
-  int sphere;     // an analytic sphere (p0..p2 and the barycentrics unused): its UV is uv
-  float2 uv;
-  float err;      // how far rays leaving p are offset along ng (common/ray.h, offset_ray_origin)
+  lfloat3 p;       // on the triangle's plane
+  lfloat3 n;       // shading normal
+  lfloat3 ng;      // geometric normal
+  lfloat3 p0, p1, p2;
+  lfloat b0, b1, b2;  // barycentrics of p
+  lmask front;     // the ray arrived on the outside of the surface
+  lmask sphere;    // an analytic sphere (p0..p2 and the barycentrics unused): its UV is uv
+  lfloat2 uv;
+  lfloat err;      // how far rays leaving p are offset along ng (common/ray.h, offset_ray_origin)
 } HitPoint;
 
-// The shading point of an analytic sphere hit (bvh/intersect_sphere.h): the point projected
-// onto the sphere, normals along the radius (the exact surface: the shading normal is the
-// geometric one), its UV by the sphere's parametrisation.
-AW_FN HitPoint classify_sphere_point(PathRef ps, const VertexData* c, float3 dir, float3 vert_err) {
+// Per lane: a when m, else b.
+AW_FN HitPoint hit_point_sel(lmask m, HitPoint a, HitPoint b) {
   HitPoint h;
-  float3 center = make_float3(c->p[0], c->p[1], c->p[2]);
-  float3 w = ps_ray_origin(ps) + dir * PS_F(ps, hit_t) - center;
-  float l2 = dot(w, w);
-  w = l2 > 0.0f ? w / sqrt(l2) : -dir;
-  h.p = center + w * c->p[3];
-  h.p0 = h.p1 = h.p2 = h.p;
-  h.b0 = 1.0f;
-  h.b1 = h.b2 = 0.0f;
-  h.sphere = 1;
-  h.uv = sphere_uv(w, make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]));
-  h.front = dot(w, dir) < 0.0f;
-  h.n = h.ng = h.front ? w : -w;
-  h.err = sphere_point_error(h.p, w, c->p[3], vert_err, h.ng);
+  h.p = l3_sel(m, a.p, b.p);
+  h.n = l3_sel(m, a.n, b.n);
+  h.ng = l3_sel(m, a.ng, b.ng);
+  h.p0 = l3_sel(m, a.p0, b.p0);
+  h.p1 = l3_sel(m, a.p1, b.p1);
+  h.p2 = l3_sel(m, a.p2, b.p2);
+  h.b0 = L_SEL(m, a.b0, b.b0);
+  h.b1 = L_SEL(m, a.b1, b.b1);
+  h.b2 = L_SEL(m, a.b2, b.b2);
+  h.front = L_SEL(m, a.front, b.front);
+  h.sphere = L_SEL(m, a.sphere, b.sphere);
+  h.uv = make_lfloat2(L_SEL(m, a.uv.x, b.uv.x), L_SEL(m, a.uv.y, b.uv.y));
+  h.err = L_SEL(m, a.err, b.err);
   return h;
 }
 
+// The hit primitive's vertices in world space: positions, shading normals (has_n: the mesh
+// has them), the bound on their own error (an instance's transform), whether the instance
+// mirrors, and for an analytic sphere (types/bvh.h: one vertex, its centre; v1 = v2 = v0)
+// its radius. At W = 1 also the whole vertices, whose UVs and tangents textures and
+// anisotropy read; on lanes the positions and normals are gathered per lane (no instances).
+typedef struct {
+  lfloat3 p[3];
+  lfloat3 n[3];
+  lmask has_n;
+  lfloat3 vert_err;
+  lmask mirrored;
+  lmask sphere;
+  lfloat radius;
+#if AW_LANES == 1
+  VertexData v[3];
+#endif
+} HitVertices;
+
+AW_FN HitVertices classify_vertices(PathRef ps, SceneRef sc, luint prim) {
+  HitVertices hv;
+#if AW_LANES == 1
+  const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[prim];
+  uint inst = PS_U(ps, hit_inst);
+  hv.mirrored = AW_FEAT_INSTANCE && inst != AW_NONE && (sc.insts[inst].flags & AW_INSTANCE_MIRROR);
+  hv.sphere = AW_FEAT_SPHERE && tri->v[1] == AW_SPHERE_MARK;
+  hv.v[0] = vertex_world(sc, inst, tri->v[0]);
+  hv.v[1] = vertex_world(sc, inst, hv.sphere ? tri->v[0] : tri->v[1]);
+  hv.v[2] = vertex_world(sc, inst, tri->v[2]);
+  hv.vert_err = instance_vertex_error(sc, inst, tri, hv.sphere);
+  for (int k = 0; k < 3; ++k) {
+    hv.p[k] = vertex_position(&hv.v[k]);
+    hv.n[k] = vertex_normal(&hv.v[k]);
+  }
+  hv.has_n = hv.v[0].n[3] != 0.0f;
+  hv.radius = hv.v[0].p[3];
+#else
+  luint i0 = L_GATHER(uint, sc.tri_info, prim, v[0]);
+  luint i1 = L_GATHER(uint, sc.tri_info, prim, v[1]);
+  luint i2 = L_GATHER(uint, sc.tri_info, prim, v[2]);
+  hv.mirrored = (lmask)(0);
+  hv.sphere = AW_FEAT_SPHERE && i1 == AW_SPHERE_MARK;
+  i1 = L_SEL(hv.sphere, i0, i1);
+  hv.vert_err = l3_splat((lfloat)(0.0f));
+  hv.p[0] = L_GATHER3(sc.verts, i0, p);
+  hv.p[1] = L_GATHER3(sc.verts, i1, p);
+  hv.p[2] = L_GATHER3(sc.verts, i2, p);
+  hv.n[0] = L_GATHER3(sc.verts, i0, n);
+  hv.n[1] = L_GATHER3(sc.verts, i1, n);
+  hv.n[2] = L_GATHER3(sc.verts, i2, n);
+  hv.has_n = L_GATHER(float, sc.verts, i0, n[3]) != 0.0f;
+  hv.radius = L_GATHER(float, sc.verts, i0, p[3]);
+#endif
+  return hv;
+}
+
+// The shading point of an analytic sphere hit (bvh/intersect_sphere.h): the point projected
+// onto the sphere, normals along the radius (the exact surface: the shading normal is the
+// geometric one), its UV by the sphere's parametrisation (at W = 1: only textures and
+// anisotropy read it).
+AW_FN HitPoint classify_sphere_point(PathRef ps, const HitVertices* hv, lfloat3 dir) {
+  HitPoint h;
+  lfloat3 center = hv->p[0];
+  lfloat3 w = l3_sub(l3_add(ps_ray_origin(ps), l3_scale(dir, PS_LF(ps, hit_t))), center);
+  lfloat l2 = l3_dot(w, w);
+  w = l3_sel(l2 > 0.0f, l3_div(w, sqrt(l2)), l3_neg(dir));
+  h.p = l3_add(center, l3_scale(w, hv->radius));
+  h.p0 = h.p1 = h.p2 = h.p;
+  h.b0 = (lfloat)(1.0f);
+  h.b1 = h.b2 = (lfloat)(0.0f);
+  h.sphere = hv->sphere;
+#if AW_LANES == 1
+  const VertexData* c = &hv->v[0];
+  h.uv = sphere_uv(w, make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]));
+#else
+  h.uv = make_lfloat2((lfloat)(0.0f), (lfloat)(0.0f));
+#endif
+  h.front = l3_dot(w, dir) < 0.0f;
+  h.n = h.ng = l3_sel(h.front, w, l3_neg(w));
+  h.err = sphere_point_error(h.p, w, hv->radius, hv->vert_err, h.ng);
+  return h;
+}
+
+#if AW_LANES == 1
 // dP/du and dP/dv of an analytic sphere at the hit's UV.
 AW_FN void classify_sphere_dpduv(const VertexData* c, HitPoint h, float3* dpdu, float3* dpdv) {
   sphere_dpduv(h.uv, c->p[3], make_float3(c->n[0], c->n[1], c->n[2]), make_float3(c->t[0], c->t[1], c->t[2]), dpdu, dpdv);
@@ -156,52 +245,64 @@ AW_FN void classify_fog(PathRef ps, SceneRef sc) {
   ps_set_throughput(ps, ps_throughput(ps) * tr);
 }
 
+#endif
+
 // Emission seen by the ray when it hit a light: MIS against light sampling, which could have
 // produced the same direction (Veach 1997, Sec. 9.2). Camera rays and delta bounces cannot
 // be light-sampled, so they take the full contribution.
 // The selection probability is the one light sampling had at the previous vertex, whose
 // position the shading point fields still hold (classify_store_shading_point comes later).
-AW_FN float classify_light_mis(PathRef ps, SceneRef sc, const RenderParams* rp, uint light, float3 dir) {
-  if (PS_U(ps, bounce) == 0u || (PS_U(ps, flags) & AW_PATH_SPECULAR)) return 1.0f;
-  float pdf_light = light_select_pmf(sc, rp, light, ps_sp_position(ps)) *
-                    light_pdf(light_load(sc.lights, light), ps_ray_origin(ps), dir, PS_F(ps, hit_t));
-  return mis_power(PS_F(ps, bsdf_pdf), pdf_light);
+AW_FN lfloat classify_light_mis(PathRef ps, SceneRef sc, const RenderParams* rp, luint light, lfloat3 dir) {
+  lmask full = PS_LU(ps, bounce) == 0u || (PS_LU(ps, flags) & AW_PATH_SPECULAR) != 0u;
+  if (L_ALL(full)) return (lfloat)(1.0f);
+  lfloat pdf_light = light_select_pmf(sc, rp, light, ps_sp_position(ps)) *
+                     light_pdf(light_load(sc.lights, light), ps_ray_origin(ps), dir, PS_LF(ps, hit_t));
+  return L_SEL(full, (lfloat)(1.0f), mis_power(PS_LF(ps, bsdf_pdf), pdf_light));
 }
 
-AW_FN void classify_light_hit(PathRef ps, SceneRef sc, const RenderParams* rp, uint light, float3 dir, float3 thr) {
-  float3 le = light_emitted(light_load(sc.lights, light), dir);
-  float w = classify_light_mis(ps, sc, rp, light, dir);
-  ps_add_radiance(ps, thr * le * (w * PS_F(ps, emit_scale)));
+AW_FN void classify_light_hit(PathRef ps, SceneRef sc, const RenderParams* rp, luint light, lfloat3 dir, lfloat3 thr) {
+  lfloat3 le = light_emitted(light_load(sc.lights, light), dir);
+  lfloat w = classify_light_mis(ps, sc, rp, light, dir);
+  ps_add_radiance(ps, l3_scale(l3_mul(thr, le), w * PS_LF(ps, emit_scale)));
 }
 
 // The ray left the scene. The constant environment is not light-sampled (a uniform sphere
 // of directions is what cosine-weighted BSDF sampling already draws well), so BSDF sampling
 // takes all of it. The lights at infinity, lights[0, num_infinite), are: the environment map
 // and soft suns are MIS-weighted against their light samples exactly as area lights are in
-// classify_light_hit (a hard sun is a delta, which no escaping ray can hit).
-AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp, float3 dir, float3 thr) {
-  float3 le = load_f3p(rp->env_radiance);
-  int mis = PS_U(ps, bounce) > 0u && !(PS_U(ps, flags) & AW_PATH_SPECULAR);
+// classify_light_hit (a hard sun is a delta, which no escaping ray can hit). On lanes every
+// lane looks at the same light i; the environment map's density is one path per call.
+AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp, lfloat3 dir, lfloat3 thr) {
+  lfloat3 le = make_lfloat3((lfloat)(rp->env_radiance[0]), (lfloat)(rp->env_radiance[1]), (lfloat)(rp->env_radiance[2]));
+  lmask mis = PS_LU(ps, bounce) > 0u && (PS_LU(ps, flags) & AW_PATH_SPECULAR) == 0u;
   for (uint i = 0u; (AW_FEAT_LIGHT_SUN | AW_FEAT_ENV_MAP) && i < rp->num_infinite; ++i) {
     const AW_GLOBAL LightGpu* l = &sc.lights[i];
-    float3 li;
-    float pdf;
+    lfloat3 li;
+    lfloat pdf;
+    lmask seen;
+#if AW_LANES == 1
     if (AW_FEAT_ENV_MAP && l->type == AW_LIGHT_ENV) {
       li = env_radiance(sc.env, rp, dir);
       pdf = mis ? env_pdf(sc.env, rp, dir) : 0.0f;
-    } else if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) {
-      pdf = sun_pdf(light_load(sc.lights, i), dir);
+      seen = 1;
+    } else
+#endif
+    if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) {
+      pdf = sun_pdf(light_load(sc.lights, (luint)(i)), dir);
       // Outside the disc, a hard sun, or a sun that camera rays do not see (light.visible).
-      if (!(pdf > 0.0f) || (PS_U(ps, bounce) == 0u && !(l->flags & AW_LIGHT_VISIBLE))) continue;
-      li = load_f3(l->radiance);
+      seen = pdf > 0.0f && !(PS_LU(ps, bounce) == 0u && (l->flags & AW_LIGHT_VISIBLE) == 0u);
+      if (!L_ANY(seen)) continue;
+      li = make_lfloat3((lfloat)(l->radiance[0]), (lfloat)(l->radiance[1]), (lfloat)(l->radiance[2]));
     } else {
       continue;
     }
-    le += li * (mis ? mis_power(PS_F(ps, bsdf_pdf), l->select_pdf * pdf) : 1.0f);
+    lfloat w = L_SEL(mis, mis_power(PS_LF(ps, bsdf_pdf), l->select_pdf * pdf), (lfloat)(1.0f));
+    le = l3_sel(seen, l3_add(le, l3_scale(li, w)), le);
   }
-  ps_add_radiance(ps, thr * le * PS_F(ps, emit_scale));
+  ps_add_radiance(ps, l3_scale(l3_mul(thr, le), PS_LF(ps, emit_scale)));
 }
 
+#if AW_LANES == 1
 // Textures (texture/texture.h): the hit's UV, and the path's ray cone carried to the hit, its
 // width there turned into a footprint in UV units, width / |cos| (the cone's section on the
 // surface) times sqrt(UV area / world area) of the triangle (Akenine-Möller et al. 2019, Ray
@@ -282,68 +383,69 @@ AW_FN float3 classify_bump(PathRef ps, SceneRef sc, const AW_GLOBAL MaterialGpu*
   return bump_keep_reflection_above(nb, h.ng, -dir);
 }
 
-// `mirrored`: the triangle belongs to an instance whose transform mirrors, which reverses the
-// winding in world space (the loader swaps two corners of a mirrored mesh it flattens instead).
-AW_FN HitPoint classify_hit_point(PathRef ps, const VertexData* v0, const VertexData* v1,
-                                  const VertexData* v2, float3 dir, int mirrored, float3 vert_err) {
+#endif
+
+// `hv->mirrored`: the triangle belongs to an instance whose transform mirrors, which reverses
+// the winding in world space (the loader swaps two corners of a mirrored mesh it flattens
+// instead).
+AW_FN HitPoint classify_hit_point(PathRef ps, const HitVertices* hv, lfloat3 dir) {
   HitPoint h;
-  h.b1 = PS_F(ps, hit_u);
-  h.b2 = PS_F(ps, hit_v);
+  h.b1 = PS_LF(ps, hit_u);
+  h.b2 = PS_LF(ps, hit_v);
   h.b0 = 1.0f - h.b1 - h.b2;
-  h.p0 = vertex_position(v0);
-  h.p1 = vertex_position(v1);
-  h.p2 = vertex_position(v2);
+  h.p0 = hv->p[0];
+  h.p1 = hv->p[1];
+  h.p2 = hv->p[2];
   // Position from barycentrics rather than o + t d: exact on the triangle's plane, so the
   // ray offset below starts from the surface and not from a point slightly behind it.
-  h.p = h.b0 * h.p0 + h.b1 * h.p1 + h.b2 * h.p2;
-  float3 ng = cross(h.p1 - h.p0, h.p2 - h.p0);
-  float ng_len2 = dot(ng, ng);
+  h.p = l3_add(l3_add(l3_scale(h.p0, h.b0), l3_scale(h.p1, h.b1)), l3_scale(h.p2, h.b2));
+  lfloat3 ng = l3_cross(l3_sub(h.p1, h.p0), l3_sub(h.p2, h.p0));
+  lfloat ng_len2 = l3_dot(ng, ng);
   // Degenerate triangles are never hit by the watertight test, but a nearly degenerate one
   // can be: fall back to facing the ray.
-  ng = ng_len2 > 0.0f ? ng / sqrt(ng_len2) : -dir;
-  if (mirrored) ng = -ng;
-  float3 nshade = ng;
-  int has_n = 0;
-  if (v0->n[3] != 0.0f) {
-    float3 n = h.b0 * vertex_normal(v0) + h.b1 * vertex_normal(v1) + h.b2 * vertex_normal(v2);
-    float n_len2 = dot(n, n);
-    if (n_len2 > 0.0f && isfinite(n_len2)) {
-      nshade = n / sqrt(n_len2);
-      has_n = 1;
-    }
+  ng = l3_sel(ng_len2 > 0.0f, l3_div(ng, sqrt(ng_len2)), l3_neg(dir));
+  ng = l3_sel(hv->mirrored, l3_neg(ng), ng);
+  lfloat3 nshade = ng;
+  lmask has_n = (lmask)(0);
+  if (L_ANY(hv->has_n)) {
+    lfloat3 n = l3_add(l3_add(l3_scale(hv->n[0], h.b0), l3_scale(hv->n[1], h.b1)), l3_scale(hv->n[2], h.b2));
+    lfloat n_len2 = l3_dot(n, n);
+    has_n = hv->has_n && n_len2 > 0.0f && isfinite(n_len2);
+    nshade = l3_sel(has_n, l3_div(n, sqrt(n_len2)), nshade);
   }
   // The outside of the surface: where the shading normals point (robust to winding), or the
   // winding's normal for meshes without normals.
-  if (has_n && dot(nshade, ng) < 0.0f) ng = -ng;
-  h.front = dot(ng, dir) < 0.0f;
-  if (!h.front) {
-    ng = -ng;  // from here on both normals face the side the ray came from
-    nshade = -nshade;
-  }
+  ng = l3_sel(has_n && l3_dot(nshade, ng) < 0.0f, l3_neg(ng), ng);
+  h.front = l3_dot(ng, dir) < 0.0f;
+  // From here on both normals face the side the ray came from.
+  ng = l3_sel(h.front, ng, l3_neg(ng));
+  nshade = l3_sel(h.front, nshade, l3_neg(nshade));
   // Interpolated normals can face away from the viewer near silhouettes even though the
   // triangle faces it; every lobe would then reject wo. Use the true surface there.
-  if (dot(nshade, ng) < 0.0f || dot(nshade, dir) >= 0.0f) nshade = ng;
+  nshade = l3_sel(l3_dot(nshade, ng) < 0.0f || l3_dot(nshade, dir) >= 0.0f, ng, nshade);
   h.n = nshade;
   h.ng = ng;
-  h.err = triangle_point_error(h.p, h.p0, h.p1, h.p2, h.b0, h.b1, h.b2, vert_err, ng);
-  h.sphere = 0;
-  h.uv = make_float2(0.0f, 0.0f);
+  h.err = triangle_point_error(h.p, h.p0, h.p1, h.p2, h.b0, h.b1, h.b2, hv->vert_err, ng);
+  h.sphere = hv->sphere;
+  h.uv = make_lfloat2((lfloat)(0.0f), (lfloat)(0.0f));
   return h;
 }
 
 // Writes the shading point for the lobe stage; returns the tangent (zero unless the material
-// is anisotropic: only the reflection frame reads it).
-AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGpu* m, uint material, HitPoint h,
-                                          const VertexData* v0, const VertexData* v1,
-                                          const VertexData* v2) {
-  PS_F(ps, sp_px) = h.p.x; PS_F(ps, sp_py) = h.p.y; PS_F(ps, sp_pz) = h.p.z;
-  PS_F(ps, sp_nx) = h.n.x; PS_F(ps, sp_ny) = h.n.y; PS_F(ps, sp_nz) = h.n.z;
-  PS_F(ps, sp_gx) = h.ng.x; PS_F(ps, sp_gy) = h.ng.y; PS_F(ps, sp_gz) = h.ng.z;
-  PS_F(ps, sp_err) = h.err;
-  PS_U(ps, material) = material;
-  if (h.front) PS_U(ps, flags) |= AW_PATH_FRONT;
-  else PS_U(ps, flags) &= ~AW_PATH_FRONT;
-  float3 tangent = make_float3(0.0f, 0.0f, 0.0f);
+// is anisotropic: only the reflection frame reads it; anisotropy is one path per call).
+AW_FN lfloat3 classify_store_shading_point(PathRef ps, MatL m, luint material, HitPoint h, const HitVertices* hv) {
+  PS_SET_F(ps, sp_px, h.p.x); PS_SET_F(ps, sp_py, h.p.y); PS_SET_F(ps, sp_pz, h.p.z);
+  PS_SET_F(ps, sp_nx, h.n.x); PS_SET_F(ps, sp_ny, h.n.y); PS_SET_F(ps, sp_nz, h.n.z);
+  PS_SET_F(ps, sp_gx, h.ng.x); PS_SET_F(ps, sp_gy, h.ng.y); PS_SET_F(ps, sp_gz, h.ng.z);
+  PS_SET_F(ps, sp_err, h.err);
+  PS_SET_U(ps, material, material);
+  luint flags = PS_LU(ps, flags);
+  PS_SET_U(ps, flags, L_SEL(h.front, flags | AW_PATH_FRONT, flags & ~AW_PATH_FRONT));
+  lfloat3 tangent = l3_splat((lfloat)(0.0f));
+#if AW_LANES == 1
+  const VertexData* v0 = &hv->v[0];
+  const VertexData* v1 = &hv->v[1];
+  const VertexData* v2 = &hv->v[2];
   if ((AW_FEAT_ANISOTROPY & AW_FEAT_SPHERE) && m->aniso_amount != 0.0f && h.sphere) {
     // Both orientations are dP/du on a sphere (make_sphere's tangents are its direction),
     // taken as the unit (-sin p, 0, -cos p) in the sphere's frame, defined at the poles too.
@@ -358,18 +460,47 @@ AW_FN float3 classify_store_shading_point(PathRef ps, const AW_GLOBAL MaterialGp
                   : interpolated_tangent(v0, v1, v2, h.b0, h.b1, h.b2, h.p0, h.p1, h.p2, h.n);
     PS_F(ps, sp_tx) = tangent.x; PS_F(ps, sp_ty) = tangent.y; PS_F(ps, sp_tz) = tangent.z;
   }
+#endif
   return tangent;
+}
+
+// Ends the paths of `missing`, marked as having met a feature this build lacks (the host
+// counts them and refuses the image); *ps keeps the others. Returns whether any is left.
+AW_FN int classify_end_missing(PathRef* ps, lmask missing) {
+  if (L_ANY(missing)) {
+    PathRef pm = *ps;
+    PS_KEEP(pm, missing);
+    PS_SET_U(pm, flags, PS_LU(pm, flags) | AW_PATH_MISSING_FEATURE);
+  }
+  lmask left = !missing;
+  PS_KEEP(*ps, left);
+  return L_ANY(left);
+}
+
+// Lane `lid`'s entry of the weights: its scale over its probability (lid < AW_LID_COUNT).
+AW_FN lfloat3 lobe_weight_of(const LobeWeights* lw, luint lid) {
+  lfloat3 scale = lw->scale[0];
+  lfloat prob = lw->prob[0];
+  for (uint i = 1u; i < AW_LID_COUNT; ++i) {
+    lmask is = lid == i;
+    scale = l3_sel(is, lw->scale[i], scale);
+    prob = L_SEL(is, lw->prob[i], prob);
+  }
+  return l3_div(scale, prob);
 }
 
 // Lobe choice (docs/material.md §2): in proportion to each lobe's share of the energy, the
 // reflection lobes' Fresnel taken at the microfacet their sample will use: the same frame
 // and the same random numbers as shade_surface (material_lobe_weights_sampled says why).
-// Materials without reflection need neither the frame nor the random numbers. Returns the
-// lobe's queue, or DONE when no lobe has energy.
-AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const RenderParams* rp, float3 dir,
-                               float3 n, float3 tangent, int front) {
-  uint bounce = PS_U(ps, bounce);
+// Materials without reflection need neither the frame nor the random numbers (and the
+// reflection's sampled split is one path per call: on lanes no material reflects). Returns
+// each path's lobe queue, or DONE when no lobe has energy.
+AW_FN luint classify_choose_lobe(PathRef ps, MatL m, const RenderParams* rp, lfloat3 dir, lfloat3 n, lfloat3 tangent,
+                                 lmask front) {
+  const luint done = (luint)(AW_Q_DONE);
+  luint bounce = PS_LU(ps, bounce);
   LobeWeights lw;
+#if AW_LANES == 1
   if (AW_FEAT_REFLECTION && (m->refl[0].weight > 0.0f || m->refl[1].weight > 0.0f)) {
     // The reflection's own normal (with bump mapping, the one its disable_bump chooses).
     n = shading_normal_for_lobe(ps, m, AW_LID_REFLECTION);
@@ -377,126 +508,180 @@ AW_FN int classify_choose_lobe(PathRef ps, const AW_GLOBAL MaterialGpu* m, const
     material_reflection_frame(m, n, tangent, &rt, &rb);
     float2 u_bsdf = rng_2d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
     lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, n), u_bsdf, front);
-  } else {
-    lw = material_lobe_weights_f(m, 0.0f, 0.0f, front);
+  } else
+#endif
+  {
+    lw = material_lobe_weights_f(m, (lfloat)(0.0f), (lfloat)(0.0f), front);
   }
   // Refraction past its depth returns black (docs/material.md §5).
-  if ((PS_U(ps, depths) >> 16) >= m->refr_depth) lw.prob[AW_LID_REFRACTION] = 0.0f;
-  float total = 0.0f;
+  lw.prob[AW_LID_REFRACTION] =
+      L_SEL((PS_LU(ps, depths) >> 16) >= MAT_U(m, refr_depth), (lfloat)(0.0f), lw.prob[AW_LID_REFRACTION]);
+  lfloat total = (lfloat)(0.0f);
   for (uint i = 0; i < AW_LID_COUNT; ++i) total += lw.prob[i];
-  if (!(total > 0.0f)) return AW_Q_DONE;
-  uint with_energy = 0u;
+  lmask energy = total > 0.0f;
+  PS_KEEP(ps, energy);
+  if (!L_ANY(energy)) return done;
+  luint with_energy = (luint)(0u);
   for (uint i = 0; i < AW_LID_COUNT; ++i) {
     lw.prob[i] /= total;
-    with_energy += lw.prob[i] > 0.0f;
+    with_energy += L_SEL(lw.prob[i] > 0.0f, (luint)(1u), (luint)(0u));
   }
   // One lobe with energy (a Lambert surface, a plain mirror): material_pick_lobe returns it for
   // any u, so no random number is drawn for it (a Sobol' sample costs about as much as the rest
   // of the choice; docs/performance.md, "Random numbers only where a choice exists").
-  float u_lobe = with_energy > 1u ? rng_1d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_LOBE)
-                                  : 0.0f;
-  uint lid = material_pick_lobe(&lw, u_lobe);
-  if (lid >= AW_LID_COUNT) return AW_Q_DONE;
-  if (!lobe_compiled(lid)) {  // unreachable after the material check in classify_hit; kept as a guard
-    PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
-    return AW_Q_DONE;
-  }
-  float3 w = lw.scale[lid] / lw.prob[lid];
-  PS_F(ps, lobe_wr) = w.x; PS_F(ps, lobe_wg) = w.y; PS_F(ps, lobe_wb) = w.z;
-  PS_U(ps, lobe) = lid;
-  return AW_Q_LOBE + (int)lid;
+  lmask choice = with_energy > 1u;
+  lfloat u_lobe = (lfloat)(0.0f);
+  if (L_ANY(choice))
+    u_lobe = L_SEL(choice, rng_1d(rp_sampler(rp), PS_LU(ps, pixel), PS_LU(ps, sample), bounce, AW_DIM_LOBE), u_lobe);
+  luint lid = material_pick_lobe(&lw, u_lobe);
+  lmask picked = lid < AW_LID_COUNT;
+  PS_KEEP(ps, picked);
+  if (!L_ANY(picked)) return done;
+  // Unreachable after the material check in classify_hit; kept as a guard.
+  lmask missing = (lmask)(0);
+  for (uint i = 0u; i < AW_LID_COUNT; ++i)
+    if (!lobe_compiled(i)) missing = missing || lid == i;
+  if (!classify_end_missing(&ps, missing)) return done;
+  lfloat3 w = lobe_weight_of(&lw, lid);
+  PS_SET_F(ps, lobe_wr, w.x); PS_SET_F(ps, lobe_wg, w.y); PS_SET_F(ps, lobe_wb, w.z);
+  PS_SET_U(ps, lobe, lid);
+  return L_SEL(PS_LIVE(ps), (luint)(AW_Q_LOBE) + lid, done);
 }
 
-AW_FN int classify_hit_body(PathRef ps, SceneRef sc, const RenderParams* rp) {
-  float3 dir = ps_ray_dir(ps);
+// The material of each lane's triangle: the scene's table entry (textures come later, one
+// path per call).
+AW_FN MatL classify_material(SceneRef sc, luint material) {
+#if AW_LANES == 1
+  return &sc.materials[material];
+#else
+  MatL m;
+  m.table = sc.materials;
+  m.i = material;
+  return m;
+#endif
+}
+
+AW_FN luint classify_hit_body(PathRef ps, SceneRef sc, const RenderParams* rp) {
+  const luint done = (luint)(AW_Q_DONE);
+  lfloat3 dir = ps_ray_dir(ps);
+#if AW_LANES == 1
   classify_fog(ps, sc);
-  float3 thr = ps_throughput(ps);
+#endif
+  lfloat3 thr = ps_throughput(ps);
 
   // 1. The ray ended: on a light, or in the environment.
-  uint light = PS_U(ps, hit_light);
-  if (light != AW_NONE) {
-    classify_light_hit(ps, sc, rp, light, dir, thr);
-    return AW_Q_DONE;
+  luint light = PS_LU(ps, hit_light);
+  luint prim = PS_LU(ps, hit_prim);
+  lmask on_light = light != AW_NONE;
+  lmask escaped = !on_light && prim == AW_NONE;
+  if (L_ANY(on_light)) {
+    PathRef pl = ps;
+    PS_KEEP(pl, on_light);
+    classify_light_hit(pl, sc, rp, L_SEL(PS_LIVE(pl), light, (luint)(0u)), dir, thr);
   }
-  if (PS_U(ps, hit_prim) == AW_NONE) {
-    classify_environment(ps, sc, rp, dir, thr);
-    return AW_Q_DONE;
+  if (L_ANY(escaped)) {
+    PathRef pe = ps;
+    PS_KEEP(pe, escaped);
+    classify_environment(pe, sc, rp, dir, thr);
   }
+  lmask surface = !on_light && !escaped;
+  PS_KEEP(ps, surface);
+  if (!L_ANY(surface)) return done;
 
-  // 2. The surface it hit.
-  const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[PS_U(ps, hit_prim)];
-  const AW_GLOBAL MaterialGpu* m = &sc.materials[tri->material];
-  // The vertices in world space (an instance's carried there by its transform).
-  uint inst = PS_U(ps, hit_inst);
-  int mirrored = AW_FEAT_INSTANCE && inst != AW_NONE && (sc.insts[inst].flags & AW_INSTANCE_MIRROR);
-  // An analytic sphere (types/bvh.h) has one vertex, its centre: v1 = v2 = v0.
-  int sphere = AW_FEAT_SPHERE && tri->v[1] == AW_SPHERE_MARK;
-  VertexData w0 = vertex_world(sc, inst, tri->v[0]);
-  VertexData w1 = vertex_world(sc, inst, sphere ? tri->v[0] : tri->v[1]);
-  VertexData w2 = vertex_world(sc, inst, tri->v[2]);
-  const VertexData* v0 = &w0;
-  const VertexData* v1 = &w1;
-  const VertexData* v2 = &w2;
-  float3 vert_err = instance_vertex_error(sc, inst, tri, sphere);
-  HitPoint h = sphere ? classify_sphere_point(ps, v0, dir, vert_err)
-                      : classify_hit_point(ps, v0, v1, v2, dir, mirrored, vert_err);
+  // 2. The surface it hit: its vertices in world space (an instance's carried there by its
+  // transform) and the shading point. (A lane that is not a path reads triangle 0.)
+  prim = L_SEL(PS_LIVE(ps), prim, (luint)(0u));
+  HitVertices hv = classify_vertices(ps, sc, prim);
+  luint material = L_GATHER(uint, sc.tri_info, prim, material);
+  MatL m = classify_material(sc, material);
+#if AW_LANES == 1
+  HitPoint h = hv.sphere ? classify_sphere_point(ps, &hv, dir) : classify_hit_point(ps, &hv, dir);
+#else
+  // Both forms, selected per lane. (Computing the sphere's only when any() lane hit one, the
+  // triangle's likewise, made PoCL 3.1 write garbage into every lane's path flags in a scene
+  // with spheres, Intel's runtime not; measured, the cause inside PoCL not isolated.)
+  HitPoint h = classify_hit_point(ps, &hv, dir);
+  if (AW_FEAT_SPHERE) h = hit_point_sel(hv.sphere, classify_sphere_point(ps, &hv, dir), h);
+#endif
 
   // 3. The feature guard. The host derived the features from this very scene, so this cannot
   // happen; if it does, it is counted and the host refuses the image rather than render it wrong.
-  if (material_uses_missing_feature(m)) {
-    PS_U(ps, flags) |= AW_PATH_MISSING_FEATURE;
-    return AW_Q_DONE;
-  }
+  lmask missing = material_uses_missing_feature(m);
+  if (!classify_end_missing(&ps, missing)) return done;
 
+#if AW_LANES == 1
   // 4. Textures: the hit's UV and the path's footprint there, the material with its textured
   // inputs applied (integrator/shading_material.h), the bump-mapped normal. (Cutout holes were
   // never hit: the traversal skips them, integrator/ray_cast.h.)
   if (AW_FEAT_TEXTURE) {
-    classify_texture_point(ps, v0, v1, v2, h, dir);
-    PS_U(ps, material) = tri->material;
+    classify_texture_point(ps, &hv.v[0], &hv.v[1], &hv.v[2], h, dir);
+    PS_U(ps, material) = material;
     m = shading_material(ps, sc);
-    if (AW_FEAT_BUMP && m->bump_binding != AW_NONE) h.n = classify_bump(ps, sc, m, h, v0, v1, v2, dir);
+    if (AW_FEAT_BUMP && m->bump_binding != AW_NONE) h.n = classify_bump(ps, sc, m, h, &hv.v[0], &hv.v[1], &hv.v[2], dir);
   }
   // The AOVs of the first hit (integrator/aov.h): the ray's direction is a unit vector, so
   // hit_t is the distance from the camera.
   if (aov_on(rp) && PS_U(ps, bounce) == 0u)
-    aov_surface(ps, rp, material_albedo(m, fabs(dot(dir, h.n)), h.front), h.n, h.p, PS_F(ps, hit_t), tri->material);
+    aov_surface(ps, rp, material_albedo(m, fabs(dot(dir, h.n)), h.front), h.n, h.p, PS_F(ps, hit_t), material);
+#endif
 
   // 5. A path that has used up its scattering events ends here. (Its last ray was still
   // traced: light it finds completes the MIS pair of the previous vertex's light sample.)
   // Ambient occlusion runs only where the path scatters on (ambient_occlusion.h).
-  int ends = PS_U(ps, bounce) >= rp->max_depth || (PS_U(ps, flags) & AW_PATH_EMITTERS_ONLY);
-  int ao = AW_FEAT_AO && m->ao_samples > 0u && !ends;
+  lmask ends = PS_LU(ps, bounce) >= rp->max_depth || (PS_LU(ps, flags) & AW_PATH_EMITTERS_ONLY) != 0u;
+  lmask ao = AW_FEAT_AO && MAT_U(m, ao_samples) > 0u && !ends;
 
   // 6. Incandescence: emission added to the shaded result at every hit. Found by BSDF sampling
   // alone (weight 1), unless the triangle belongs to a light-sampled object: then it is a
   // light, MIS-weighted against the light samples that could have found it, and AO never dims
   // it. Otherwise AO in multiply mode with apply_to_incandescence darkens it: the AO stage
   // adds it then.
-  uint tri_light = triangle_light(sc, rp, PS_U(ps, hit_prim));
-  if (AW_FEAT_INCANDESCENCE &&
-      (tri_light != AW_NONE || !(ao && (m->ao_flags & AW_AO_MULTIPLY) && (m->ao_flags & AW_AO_INCANDESCENCE)))) {
-    float3 inc = load_f3(m->incandescent);
-    float w = tri_light != AW_NONE ? classify_light_mis(ps, sc, rp, tri_light, dir) : 1.0f;
-    if (max3(inc) > 0.0f) ps_add_radiance(ps, thr * inc * (w * PS_F(ps, emit_scale)));
+  if (AW_FEAT_INCANDESCENCE) {
+    luint tri_light = triangle_light(sc, rp, prim);
+    lmask is_light = tri_light != AW_NONE;
+    luint ao_flags = MAT_U(m, ao_flags);
+    lfloat3 inc = MAT_F3(m, incandescent);
+    lmask adds = (is_light || !(ao && (ao_flags & AW_AO_MULTIPLY) != 0u && (ao_flags & AW_AO_INCANDESCENCE) != 0u)) &&
+                 l3_max3(inc) > 0.0f;
+    if (L_ANY(adds)) {
+      lfloat w = (lfloat)(1.0f);
+      if (L_ANY(is_light))
+        w = L_SEL(is_light, classify_light_mis(ps, sc, rp, L_SEL(is_light, tri_light, (luint)(0u)), dir), w);
+      PathRef pi = ps;
+      PS_KEEP(pi, adds);
+      ps_add_radiance(pi, l3_scale(l3_mul(thr, inc), w * PS_LF(ps, emit_scale)));
+    }
   }
-  if (ends) return AW_Q_DONE;
+  lmask goes_on = !ends;
+  PS_KEEP(ps, goes_on);
+  if (!L_ANY(goes_on)) return done;
 
   // 7. The shading point for the lobe stage, and the lobe that scatters the path; with AO, the
   // AO stage first, which hands the path on to that lobe (or ends it when there is none).
-  float3 tangent = classify_store_shading_point(ps, m, tri->material, h, v0, v1, v2);
-  int q = classify_choose_lobe(ps, m, rp, dir, h.n, tangent, h.front);
-  if (!ao) return q;
-  if (q == AW_Q_DONE) PS_U(ps, lobe) = AW_NONE;
-  return (PS_U(ps, flags) & AW_PATH_MISSING_FEATURE) ? q : AW_Q_AO;
+  lfloat3 tangent = classify_store_shading_point(ps, m, material, h, &hv);
+  luint q = classify_choose_lobe(ps, m, rp, dir, h.n, tangent, h.front);
+  if (L_ANY(ao)) {
+    lmask no_lobe = ao && q == done;
+    if (L_ANY(no_lobe)) {
+      PathRef pn = ps;
+      PS_KEEP(pn, no_lobe);
+      PS_SET_U(pn, lobe, AW_NONE);
+    }
+    q = L_SEL(ao && (PS_LU(ps, flags) & AW_PATH_MISSING_FEATURE) == 0u, (luint)(AW_Q_AO), q);
+  }
+  return L_SEL(PS_LIVE(ps), q, done);
 }
 
 // classify_hit_body, and the AOVs' record of what the first hit gathered (integrator/aov.h).
-AW_FN int classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
+AW_FN luint classify_hit(PathRef ps, SceneRef sc, const RenderParams* rp) {
+#if AW_LANES == 1
   uint bounce = PS_U(ps, bounce);
   int q = classify_hit_body(ps, sc, rp);
   aov_first_classified(ps, rp, bounce);
   return q;
+#else
+  return classify_hit_body(ps, sc, rp);
+#endif
 }
 
 #endif

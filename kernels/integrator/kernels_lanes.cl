@@ -7,11 +7,13 @@
 // vector types run at the full SIMD width on PoCL, which runs a work-item's scalar code one
 // path at a time (docs/performance.md, "Paths in explicit lanes").
 //
-// Only what is written on lanes is here: the shading stages of the lobes of
+// Only what is written on lanes is here: classify_hit, and the shading stages of the lobes of
 // AW_LOBE_LIST_ON_LANES (material/lobe_list.h). The host (host/render/wavefront.cpp) builds
 // this program only on a CPU device and for a scene that needs nothing still one path per
-// call (textures and bump maps, the light tree, an environment map, AOVs, zsobol), and
-// launches a lane kernel only for a dense launch; a queue launch runs kernels.cl's.
+// call (textures and bump maps, the light tree, an environment map, AOVs, zsobol), uses its
+// classify_hit only for scenes that also need none of what that stage leaves out on lanes
+// (integrator/classify_hit.h: reflection, fog, instances), and launches a lane kernel only
+// for a dense launch; a queue launch runs kernels.cl's.
 #ifdef cl_khr_fp64
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
@@ -20,6 +22,7 @@
 #error "kernels_lanes.cl is built with -DAW_LANES=8 or 16"
 #endif
 
+#include "integrator/classify_hit.h"
 #include "integrator/shade_surface.h"
 #include "integrator/stage_kernel.h"
 #include "material/lobe_list.h"
@@ -77,3 +80,14 @@ static inline void append_lanes(__global uint* counters, __global uint* queues, 
   }
 AW_LOBE_LIST_ON_LANES(AW_SHADE_LANES_KERNEL)
 #undef AW_SHADE_LANES_KERNEL
+
+// classify_hit on lanes: the paths whose ray was traced (tag RAY), W per work-item.
+AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
+  uint slot0 = get_global_id(0) * AW_LANES;
+  if (slot0 + AW_LANES > rp.pool_size) return;
+  PathRef ps = AW_STAGE_PATH(slot0);
+  ps.live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY);
+  if (!L_ANY(ps.live)) return;
+  luint q = classify_hit(ps, AW_STAGE_SCENE, &rp);
+  AW_APPEND_LANES(L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);
+}

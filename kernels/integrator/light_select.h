@@ -16,8 +16,9 @@
 AW_FN int light_tree_used(const RenderParams* rp) { return AW_FEAT_LIGHT_TREE && rp->num_tree_nodes > 0u; }
 
 // The light a triangle is (objects[].light_sampling), or AW_NONE.
-AW_FN uint triangle_light(SceneRef sc, const RenderParams* rp, uint prim) {
-  return AW_FEAT_LIGHT_MESH && rp->has_mesh_lights ? sc.tri_light[prim] : AW_NONE;
+AW_FN luint triangle_light(SceneRef sc, const RenderParams* rp, luint prim) {
+  if (!(AW_FEAT_LIGHT_MESH && rp->has_mesh_lights)) return (luint)(AW_NONE);
+  return L_GATHER_V(uint, sc.tri_light, prim);
 }
 
 // A light for next-event estimation at p from one uniform number, and its probability;
@@ -44,10 +45,13 @@ AW_FN luint light_choose(SceneRef sc, const RenderParams* rp, lfloat3 p, lfloat 
   return li;
 }
 
-// The probability light_choose picks light `li` at p (the MIS partner of a BSDF ray that hits it).
-AW_FN float light_select_pmf(SceneRef sc, const RenderParams* rp, uint li, float3 p) {
+// The probability light_choose picks light `li` at p (the MIS partner of a BSDF ray that hits
+// it). On lanes the alias table's only, as light_choose.
+AW_FN lfloat light_select_pmf(SceneRef sc, const RenderParams* rp, luint li, lfloat3 p) {
+#if AW_LANES == 1
   if (light_tree_used(rp) && li >= rp->num_infinite) return rp->tree_prob * light_tree_pmf(sc.light_tree, &sc.lights[li], p);
-  return sc.lights[li].select_pdf;
+#endif
+  return L_GATHER(float, sc.lights, li, select_pdf);
 }
 
 // The closest analytic light along a ray (lights_intersect's contract), through the tree's

@@ -11,10 +11,8 @@
 #include "common/compat.h"
 #include "common/features.h"
 
-#define AW_FRESNEL_DIELECTRIC 0u
-#define AW_FRESNEL_CONDUCTOR 1u
-#define AW_FRESNEL_CURVE 2u
-#define AW_FRESNEL_THIN_DIELECTRIC 3u  // a thin pane: both faces' reflections (thin_walled.h)
+// The modes (AW_FRESNEL_*) are the values of ReflectionGpu.fresnel_mode: types/material.h.
+#include "types/material.h"
 
 // Passed by value (OpenCL C has no references). `eta` is n_transmitted / n_incident for the
 // dielectric and the conductor's n for the conductor (its k in `k`); the curve uses

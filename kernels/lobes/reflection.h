@@ -30,10 +30,8 @@
 #include "lobes/lobe.h"
 #include "lobes/microfacet.h"
 
-#define AW_BRDF_BECKMANN 0u
-#define AW_BRDF_GGX 1u
-#define AW_BRDF_ASHIKHMIN_SHIRLEY 2u
-#define AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY 3u
+// The BRDFs (AW_BRDF_*) are the values of ReflectionGpu.brdf: types/material.h.
+#include "types/material.h"
 
 // Density reported for a delta sample (the probability mass of the only direction).
 #define AW_REFLECTION_DELTA_PDF 1.0f

@@ -8,6 +8,7 @@
 #include "common/features.h"
 #include "common/lanes.h"
 #include "common/sampling.h"
+#include "lobes/lobe.h"
 #include "material/lobe_list.h"
 #include "types/material.h"
 
@@ -27,6 +28,7 @@ typedef struct {
 #define MAT_F(m, field) L_GATHER(float, (m).table, (m).i, field)
 #define MAT_U(m, field) L_GATHER(uint, (m).table, (m).i, field)
 #endif
+#define MAT_F3(m, field) make_lfloat3(MAT_F(m, field[0]), MAT_F(m, field[1]), MAT_F(m, field[2]))
 
 // The diffuse lobe's albedo: colour times weight (docs/material.md §1).
 AW_FN lfloat3 material_diffuse_color(MatL m) {
@@ -40,6 +42,160 @@ AW_FN lmask material_is_thin(MatL m) {
   return AW_FEAT_THIN_WALLED && (MAT_U(m, flags) & AW_MAT_THIN_WALLED) != 0u;
 }
 
+// Per-lobe factors at one shading point. `scale` multiplies the lobe's own value (its eval
+// and sample weight already contain the lobe's colour and, for reflection, Fresnel at the
+// microfacet). `prob` is the probability that classify_hit sends the path to that lobe.
+// On lanes (common/lanes.h) each entry holds W paths' values.
+typedef struct {
+  lfloat3 scale[AW_LID_COUNT];
+  lfloat prob[AW_LID_COUNT];
+  lfloat albedo[AW_LID_COUNT];  // luminance of each lobe's estimated contribution
+} LobeWeights;
+
+AW_FN lmask positive3(lfloat3 c) { return c.x > 0.0f || c.y > 0.0f || c.z > 0.0f; }
+
+// Whether reflection lobe i carries energy at all (weight and colour): a lobe without it is
+// never chosen, so it needs no code and never splits.
+AW_FN lmask material_reflection_used(MatL m, uint i) {
+  return MAT_F(m, refl[i].weight) > 0.0f && positive3(MAT_F3(m, refl[i].color));
+}
+
+// The split itself, given each reflection lobe's reflectance f1, f2 in [0, 1] (0 for a lobe
+// without weight). Written on lanes; each field is read once.
+AW_FN LobeWeights material_lobe_weights_f(MatL m, lfloat f1, lfloat f2, lmask entering) {
+  LobeWeights lw;
+  lmask thin = material_is_thin(m);
+  luint flags = MAT_U(m, flags);
+  lmask metal = (flags & AW_MAT_METAL) != 0u;
+  lfloat3 diffuse = material_diffuse_color(m);
+  lfloat refr_weight = MAT_F(m, refr_weight);
+  lfloat3 refr_color = MAT_F3(m, refr_color);
+  const lfloat3 zero = l3_splat((lfloat)(0.0f));
+
+  // Reflection: rho1 = weight * color * F1(theta_o) (x diffuse colour when metal).
+  lfloat3 rho1 = zero, rho2 = zero;
+  lfloat lum1 = (lfloat)(0.0f), lum2 = (lfloat)(0.0f), keep2 = (lfloat)(1.0f);
+  lfloat weight1 = (lfloat)(0.0f), weight2 = (lfloat)(0.0f);
+  if (AW_FEAT_REFLECTION) {
+    weight1 = MAT_F(m, refl[0].weight);
+    weight2 = MAT_F(m, refl[1].weight);
+    lfloat3 tint1 = MAT_F3(m, refl[0].color);
+    tint1 = l3_sel(metal, l3_mul(tint1, diffuse), tint1);
+    rho1 = l3_scale(tint1, weight1 * f1);
+    lum1 = fmin((lfloat)(1.0f), l_luminance(rho1));
+    // Reflection 2 gets what reflection 1 leaves.
+    keep2 = 1.0f - lum1;
+    rho2 = l3_scale(MAT_F3(m, refl[1].color), weight2 * f2 * keep2);
+    lum2 = l_luminance(rho2);
+  }
+  // Whatever reflection leaves is transmitted (refraction, translucency) or diffuse.
+  lfloat rest = 1.0f - fmin((lfloat)(1.0f), lum1 + lum2);
+  lfloat w_t = refr_weight * rest;
+  lfloat w_transl = (lfloat)(0.0f);
+  if (AW_FEAT_TRANSLUCENCY) w_transl = L_SEL((flags & AW_MAT_TRANSLUCENCY) != 0u, w_t * MAT_F(m, transl_weight), w_transl);
+  lfloat w_refr = w_t - w_transl;
+  lfloat w_d = rest;
+  // (A variable, not "AW_FEAT_REFRACTION || AW_FEAT_TRANSLUCENCY" in the condition: clang and
+  // gcc warn on a condition made of constants.)
+  const int transmissive = AW_FEAT_REFRACTION + AW_FEAT_TRANSLUCENCY;
+  if (transmissive)
+    w_d = w_d * (1.0f - refr_weight * l_luminance(refr_color));
+  else
+    w_refr = (lfloat)(0.0f);
+  w_d = L_SEL(metal, w_d * (1.0f - lum1), w_d);
+
+  // Skip weak internal reflections: inside a refractive object, partial reflections are not
+  // traced (total internal reflection, f = 1, still is). Biased by design: an optimisation.
+  lmask skip_weak = !entering && !thin && refr_weight > 0.0f && (flags & AW_MAT_SKIP_WEAK_INTERNAL) != 0u;
+  rho1 = l3_sel(skip_weak && f1 < 1.0f, zero, rho1);
+  rho2 = l3_sel(skip_weak && f2 < 1.0f, zero, rho2);
+
+  lw.scale[AW_LID_DIFFUSE] = l3_splat(w_d);
+  lw.scale[AW_LID_TRANSLUCENCY] = l3_splat(w_transl);
+  // The reflection lobes carry tint and Fresnel themselves; scale is the rest of rho.
+  lfloat s1 = L_SEL(l_luminance(rho1) > 0.0f, weight1, (lfloat)(0.0f));
+  lfloat s2 = L_SEL(l_luminance(rho2) > 0.0f, weight2 * keep2, (lfloat)(0.0f));
+  lw.scale[AW_LID_REFLECTION] = l3_splat(s1);
+  lw.scale[AW_LID_REFLECTION2] = l3_splat(s2);
+  lw.scale[AW_LID_REFRACTION] = l3_scale(refr_color, w_refr);
+
+  // Selection in proportion to each lobe's estimated contribution.
+  lw.albedo[AW_LID_DIFFUSE] = w_d * l_luminance(diffuse);
+  // (w_transl is 0 in builds without translucency: its colour is not read there.)
+  lw.albedo[AW_LID_TRANSLUCENCY] = AW_FEAT_TRANSLUCENCY ? w_transl * l_luminance(MAT_F3(m, transl_color)) : (lfloat)(0.0f);
+  lw.albedo[AW_LID_REFLECTION] = l_luminance(rho1);
+  lw.albedo[AW_LID_REFLECTION2] = l_luminance(rho2);
+  lw.albedo[AW_LID_REFRACTION] = l_luminance(lw.scale[AW_LID_REFRACTION]);
+  lfloat total = (lfloat)(0.0f);
+  for (uint i = 0; i < AW_LID_COUNT; ++i) {
+    lw.albedo[i] = fmax(lw.albedo[i], 0.0f);
+    total += lw.albedo[i];
+  }
+  for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] = L_SEL(total > 0.0f, lw.albedo[i] / total, (lfloat)(0.0f));
+  return lw;
+}
+
+// The features material m uses, as AW_FEATBIT_* bits. The one definition of "uses": the host
+// ORs it over the scene's materials to choose what to compile (host/render/features.cpp) and
+// every hit checks it against the build, so a specialised build can never silently render a
+// material differently. On lanes: each lane's material's features.
+#define AW_MAT_FEATURE_IF(m, bit) L_SEL((m), (luint)(bit), (luint)(0u))
+AW_FN luint material_features(MatL m) {
+  luint f = (luint)(0u);
+  lmask refl = (lmask)(0);
+  for (uint i = 0u; i < 2u; ++i) {
+    lmask used = material_reflection_used(m, i);
+    luint brdf = MAT_U(m, refl[i].brdf), fresnel = MAT_U(m, refl[i].fresnel_mode);
+    refl = refl || used;
+    f |= AW_MAT_FEATURE_IF(used && brdf == AW_BRDF_BECKMANN, AW_FEATBIT_BRDF_BECKMANN);
+    f |= AW_MAT_FEATURE_IF(used && (brdf == AW_BRDF_ASHIKHMIN_SHIRLEY || brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY),
+                           AW_FEATBIT_BRDF_AS);
+    f |= AW_MAT_FEATURE_IF(used && fresnel == AW_FRESNEL_CONDUCTOR, AW_FEATBIT_FRESNEL_CONDUCTOR);
+    f |= AW_MAT_FEATURE_IF(used && fresnel == AW_FRESNEL_CURVE, AW_FEATBIT_FRESNEL_CURVE);
+  }
+  luint flags = MAT_U(m, flags);
+  lfloat transl_weight = MAT_F(m, transl_weight);
+  lmask transmit = MAT_F(m, refr_weight) > 0.0f;
+  lmask transl = transmit && (flags & AW_MAT_TRANSLUCENCY) != 0u && transl_weight > 0.0f;
+  lmask refr = transmit && !(transl && transl_weight >= 1.0f);
+  luint bump = MAT_U(m, bump_binding);
+  f |= AW_MAT_FEATURE_IF(transl, AW_FEATBIT_TRANSLUCENCY);
+  f |= AW_MAT_FEATURE_IF(refl, AW_FEATBIT_REFLECTION);
+  f |= AW_MAT_FEATURE_IF(refr, AW_FEATBIT_REFRACTION);
+  f |= AW_MAT_FEATURE_IF(MAT_F(m, diffuse_roughness) > 0.0f, AW_FEATBIT_ROUGH_DIFFUSE);
+  f |= AW_MAT_FEATURE_IF(refl && MAT_F(m, aniso_amount) != 0.0f, AW_FEATBIT_ANISOTROPY);
+  f |= AW_MAT_FEATURE_IF(refr && MAT_F(m, fog_distance) > 0.0f, AW_FEATBIT_FOG);
+  f |= AW_MAT_FEATURE_IF(MAT_F(m, cutout_opacity) < 0.5f || MAT_U(m, cutout_binding) != AW_NONE, AW_FEATBIT_CUTOUT);
+  f |= AW_MAT_FEATURE_IF(MAT_U(m, tex_count) > 0u, AW_FEATBIT_TEXTURE);
+  f |= AW_MAT_FEATURE_IF(bump != AW_NONE, AW_FEATBIT_BUMP | AW_FEATBIT_TEXTURE);
+  f |= AW_MAT_FEATURE_IF(positive3(MAT_F3(m, incandescent)), AW_FEATBIT_INCANDESCENCE);
+  f |= AW_MAT_FEATURE_IF((flags & AW_MAT_THIN_WALLED) != 0u && (refl || transmit), AW_FEATBIT_THIN_WALLED);
+  f |= AW_MAT_FEATURE_IF(MAT_U(m, ao_samples) > 0u, AW_FEATBIT_AO);
+  return f;
+}
+#undef AW_MAT_FEATURE_IF
+
+AW_FN lmask material_uses_missing_feature(MatL m) {
+  return (material_features(m) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
+}
+
+// Picks a lobe with probability prob[]; returns AW_LID_COUNT when no lobe has weight. On
+// lanes: each lane's pick, the first lobe whose running sum passes u.
+AW_FN luint material_pick_lobe(const LobeWeights* lw, lfloat u) {
+  lfloat acc = (lfloat)(0.0f);
+  luint last = (luint)(AW_LID_COUNT), pick = (luint)(AW_LID_COUNT);
+  lmask found = (lmask)(0);
+  for (uint i = 0; i < AW_LID_COUNT; ++i) {
+    lmask has = lw->prob[i] > 0.0f;
+    acc = L_SEL(has, acc + lw->prob[i], acc);
+    last = L_SEL(has, (luint)(i), last);
+    lmask here = has && !found && u < acc;
+    pick = L_SEL(here, (luint)(i), pick);
+    found = found || here;
+  }
+  return L_SEL(found, pick, last);  // round-off: the last lobe with weight
+}
+
 // The rest of the material is one path per call: not in a program built on lanes, which is
 // built only for scenes whose materials need none of it (material/lobe_list.h,
 // AW_LOBE_LIST_ON_LANES).
@@ -49,23 +205,6 @@ AW_FN lmask material_is_thin(MatL m) {
 #include "lobes/reflection.h"
 #include "lobes/thin_walled.h"
 
-// Per-lobe factors at one shading point. `scale` multiplies the lobe's own value (its eval
-// and sample weight already contain the lobe's colour and, for reflection, Fresnel at the
-// microfacet). `prob` is the probability that classify_hit sends the path to that lobe.
-typedef struct {
-  float3 scale[AW_LID_COUNT];
-  float prob[AW_LID_COUNT];
-  float albedo[AW_LID_COUNT];  // luminance of each lobe's estimated contribution
-} LobeWeights;
-
-
-AW_FN int positive3(const AW_GLOBAL float* c) { return c[0] > 0.0f || c[1] > 0.0f || c[2] > 0.0f; }
-
-// Whether reflection lobe i carries energy at all (weight and colour): a lobe without it is
-// never chosen, so it needs no code and never splits.
-AW_FN int material_reflection_used(const AW_GLOBAL MaterialGpu* m, uint i) {
-  return m->refl[i].weight > 0.0f && positive3(m->refl[i].color);
-}
 
 
 // Relative IOR n_far / n_near for a ray arriving from the `entering` side. Thin walls look
@@ -128,75 +267,6 @@ AW_FN void material_reflection_frame(const AW_GLOBAL MaterialGpu* m, float3 n, f
   }
 }
 
-// The split itself, given each reflection lobe's reflectance f1, f2 in [0, 1] (0 for a lobe
-// without weight).
-AW_FN LobeWeights material_lobe_weights_f(const AW_GLOBAL MaterialGpu* m, float f1, float f2, int entering) {
-  LobeWeights lw;
-  int thin = material_is_thin(m);
-  int metal = (m->flags & AW_MAT_METAL) != 0u;
-  float3 diffuse = material_diffuse_color(m);
-  float3 zero = make_float3(0.0f, 0.0f, 0.0f);
-
-  // Reflection: rho1 = weight * color * F1(theta_o) (x diffuse colour when metal).
-  float3 rho1 = zero, rho2 = zero;
-  float lum1 = 0.0f, lum2 = 0.0f, keep2 = 1.0f;
-  if (AW_FEAT_REFLECTION) {
-    float3 tint1 = load_f3(m->refl[0].color);
-    if (metal) tint1 = tint1 * diffuse;
-    rho1 = m->refl[0].weight * f1 * tint1;
-    lum1 = fmin(1.0f, luminance(rho1));
-    // Reflection 2 gets what reflection 1 leaves.
-    keep2 = 1.0f - lum1;
-    rho2 = m->refl[1].weight * f2 * keep2 * load_f3(m->refl[1].color);
-    lum2 = luminance(rho2);
-  }
-  // Whatever reflection leaves is transmitted (refraction, translucency) or diffuse.
-  float rest = 1.0f - fmin(1.0f, lum1 + lum2);
-  float w_t = m->refr_weight * rest;
-  float w_transl = (AW_FEAT_TRANSLUCENCY && (m->flags & AW_MAT_TRANSLUCENCY)) ? w_t * m->transl_weight : 0.0f;
-  float w_refr = w_t - w_transl;
-  float w_d = rest;
-  // (A variable, not "AW_FEAT_REFRACTION || AW_FEAT_TRANSLUCENCY" in the condition: clang and
-  // gcc warn on a condition made of constants.)
-  const int transmissive = AW_FEAT_REFRACTION + AW_FEAT_TRANSLUCENCY;
-  if (transmissive)
-    w_d *= (1.0f - m->refr_weight * luminance(load_f3(m->refr_color)));
-  else
-    w_refr = 0.0f;
-  if (metal) w_d *= (1.0f - lum1);
-
-  // Skip weak internal reflections: inside a refractive object, partial reflections are not
-  // traced (total internal reflection, f = 1, still is). Biased by design: an optimisation.
-  int inside_refr = !entering && !thin && m->refr_weight > 0.0f;
-  if (inside_refr && (m->flags & AW_MAT_SKIP_WEAK_INTERNAL)) {
-    if (f1 < 1.0f) rho1 = zero;
-    if (f2 < 1.0f) rho2 = zero;
-  }
-
-  lw.scale[AW_LID_DIFFUSE] = make_float3(w_d, w_d, w_d);
-  lw.scale[AW_LID_TRANSLUCENCY] = make_float3(w_transl, w_transl, w_transl);
-  // The reflection lobes carry tint and Fresnel themselves; scale is the rest of rho.
-  float s1 = luminance(rho1) > 0.0f ? m->refl[0].weight : 0.0f;
-  float s2 = luminance(rho2) > 0.0f ? m->refl[1].weight * keep2 : 0.0f;
-  lw.scale[AW_LID_REFLECTION] = make_float3(s1, s1, s1);
-  lw.scale[AW_LID_REFLECTION2] = make_float3(s2, s2, s2);
-  lw.scale[AW_LID_REFRACTION] = w_refr * load_f3(m->refr_color);
-
-  // Selection in proportion to each lobe's estimated contribution.
-  lw.albedo[AW_LID_DIFFUSE] = w_d * luminance(diffuse);
-  lw.albedo[AW_LID_TRANSLUCENCY] = w_transl * luminance(load_f3(m->transl_color));
-  lw.albedo[AW_LID_REFLECTION] = luminance(rho1);
-  lw.albedo[AW_LID_REFLECTION2] = luminance(rho2);
-  lw.albedo[AW_LID_REFRACTION] = luminance(lw.scale[AW_LID_REFRACTION]);
-  float total = 0.0f;
-  for (uint i = 0; i < AW_LID_COUNT; ++i) {
-    lw.albedo[i] = fmax(lw.albedo[i], 0.0f);
-    total += lw.albedo[i];
-  }
-  for (uint i = 0; i < AW_LID_COUNT; ++i) lw.prob[i] = total > 0.0f ? lw.albedo[i] / total : 0.0f;
-  return lw;
-}
-
 // docs/material.md §2 at view cosine cos_o, with the reflectances taken at the view angle;
 // `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
 // refractive object is subject to skip_weak_internal_reflections).
@@ -250,57 +320,6 @@ AW_FN LobeWeights material_lobe_weights_sampled(const AW_GLOBAL MaterialGpu* m, 
 }
 
 
-
-// The features material m uses, as AW_FEATBIT_* bits. The one definition of "uses": the host
-// ORs it over the scene's materials to choose what to compile (host/render/features.cpp) and
-// every hit checks it against the build, so a specialised build can never silently render a
-// material differently.
-AW_FN uint material_features(const AW_GLOBAL MaterialGpu* m) {
-  uint f = 0u;
-  int refl = 0;
-  for (uint i = 0u; i < 2u; ++i) {
-    const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
-    if (!material_reflection_used(m, i)) continue;
-    refl = 1;
-    if (r->brdf == AW_BRDF_BECKMANN) f |= AW_FEATBIT_BRDF_BECKMANN;
-    if (r->brdf == AW_BRDF_ASHIKHMIN_SHIRLEY || r->brdf == AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY) f |= AW_FEATBIT_BRDF_AS;
-    if (r->fresnel_mode == AW_FRESNEL_CONDUCTOR) f |= AW_FEATBIT_FRESNEL_CONDUCTOR;
-    if (r->fresnel_mode == AW_FRESNEL_CURVE) f |= AW_FEATBIT_FRESNEL_CURVE;
-  }
-  int transmit = m->refr_weight > 0.0f;
-  int transl = transmit && (m->flags & AW_MAT_TRANSLUCENCY) && m->transl_weight > 0.0f;
-  int refr = transmit && !(transl && m->transl_weight >= 1.0f);
-  if (transl) f |= AW_FEATBIT_TRANSLUCENCY;
-  if (refl) f |= AW_FEATBIT_REFLECTION;
-  if (refr) f |= AW_FEATBIT_REFRACTION;
-  if (m->diffuse_roughness > 0.0f) f |= AW_FEATBIT_ROUGH_DIFFUSE;
-  if (refl && m->aniso_amount != 0.0f) f |= AW_FEATBIT_ANISOTROPY;
-  if (refr && m->fog_distance > 0.0f) f |= AW_FEATBIT_FOG;
-  if (m->cutout_opacity < 0.5f || m->cutout_binding != AW_NONE) f |= AW_FEATBIT_CUTOUT;
-  if (m->tex_count > 0u) f |= AW_FEATBIT_TEXTURE;
-  if (m->bump_binding != AW_NONE) f |= AW_FEATBIT_BUMP | AW_FEATBIT_TEXTURE;
-  if (positive3(m->incandescent)) f |= AW_FEATBIT_INCANDESCENCE;
-  if ((m->flags & AW_MAT_THIN_WALLED) && (refl || transmit)) f |= AW_FEATBIT_THIN_WALLED;
-  if (m->ao_samples > 0u) f |= AW_FEATBIT_AO;
-  return f;
-}
-
-AW_FN int material_uses_missing_feature(const AW_GLOBAL MaterialGpu* m) {
-  return (material_features(m) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
-}
-
-// Picks a lobe with probability prob[]; returns AW_LID_COUNT when no lobe has weight.
-AW_FN uint material_pick_lobe(const LobeWeights* lw, float u) {
-  float acc = 0.0f;
-  uint last = AW_LID_COUNT;
-  for (uint i = 0; i < AW_LID_COUNT; ++i) {
-    if (!(lw->prob[i] > 0.0f)) continue;
-    acc += lw->prob[i];
-    last = i;
-    if (u < acc) return i;
-  }
-  return last;  // round-off: the last lobe with weight
-}
 
 #endif  // AW_LANES == 1
 

@@ -16,6 +16,7 @@
 #include "integrator/shade_common.h"
 #include "integrator/light_select.h"
 #include "integrator/shade_surface.h"
+#include "integrator/classify_hit.h"
 
 __kernel void probe_sampler_lanes(uint n, __global const float* in, __global float* out,
                                   __global const uint* params) {
@@ -279,5 +280,29 @@ __kernel void probe_shade_surface_lanes(uint n, __global const float* in, __glob
   sc.lights = lights;
   RenderParams rp = *rpg;
   luint q = shade_surface(ps, sc, &rp, (uint)AW_LID_DIFFUSE);
+  L_STORE(L_UINT_AS_FLOAT(q), out + nstate * n, g);
+}
+
+// probe_classify_lanes (integrator/classify_hit.h: the whole classification stage, on a path
+// state of n slots in blocks of 16)
+// in: the path state (as probe_shade_lanes), then one field of n values: live (0 or 1).
+// tri_info, verts, materials, lights, tri_light: the scene's tables; rp: the RenderParams.
+// out: the path state after the stage, then the stage's next queue (bits) per slot.
+__kernel void probe_classify_lanes(uint n, __global const float* in, __global float* out,
+                                   __global const TriangleInfo* tri_info, __global const VertexData* verts,
+                                   __global const MaterialGpu* materials, __global const LightGpu* lights,
+                                   __global const uint* tri_light, __global const RenderParams* rpg) {
+  uint g = get_global_id(0);
+  if ((g + 1u) * AW_LANES > n) return;
+  const uint nstate = (uint)AW_SF_COUNT + (uint)AW_SU_COUNT;
+  PathRef ps = probe_state_lanes(n, in, out, g, L_LOAD(in + nstate * n, g) != 0.0f);
+  SceneRef sc;
+  sc.tri_info = tri_info;
+  sc.verts = verts;
+  sc.materials = materials;
+  sc.lights = lights;
+  sc.tri_light = tri_light;
+  RenderParams rp = *rpg;
+  luint q = classify_hit(ps, sc, &rp);
   L_STORE(L_UINT_AS_FLOAT(q), out + nstate * n, g);
 }

@@ -24,13 +24,25 @@
 #define AW_ANISO_TANGENT 0u
 #define AW_ANISO_UV 1u
 
+// reflection.brdf (kernels/lobes/reflection.h)
+#define AW_BRDF_BECKMANN 0u
+#define AW_BRDF_GGX 1u
+#define AW_BRDF_ASHIKHMIN_SHIRLEY 2u
+#define AW_BRDF_ASHIKHMIN_SHIRLEY_LEGACY 3u
+
+// Fresnel modes (kernels/lobes/fresnel.h)
+#define AW_FRESNEL_DIELECTRIC 0u
+#define AW_FRESNEL_CONDUCTOR 1u
+#define AW_FRESNEL_CURVE 2u
+#define AW_FRESNEL_THIN_DIELECTRIC 3u  // a thin pane: both faces' reflections (thin_walled.h)
+
 // One reflection lobe (reflection and reflection2 share the layout). 64 bytes.
 typedef struct {
   float color[3];
   float weight;
   float glossiness;
-  uint brdf;          // AW_BRDF_* (kernels/lobes/reflection.h)
-  uint fresnel_mode;  // AW_FRESNEL_* (kernels/lobes/fresnel.h)
+  uint brdf;          // AW_BRDF_* (above)
+  uint fresnel_mode;  // AW_FRESNEL_* (above)
   float fresnel_ior;  // resolved: refraction.ior when locked
   float fresnel_k;
   float facing;

@@ -4,6 +4,7 @@
 // bit, every field of every slot (docs/testing.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/integrator/classify_hit.h"
 #include "kernels/integrator/shade_common.h"
 #include "kernels/integrator/shade_surface.h"
 #include "tests/lobes/lobe_harness.h"
@@ -52,12 +54,16 @@ struct HostState {
 // Every word of every slot after the stage, and each live slot's next queue (live: the
 // input field after the state), the device's 16 lanes against the host: the differences,
 // the first ten reported.
+// `skip`: fields not compared (what one side writes that the other leaves out), numbered as
+// in the probe's buffer (float fields, then AW_SF_COUNT + the uint fields).
 size_t count_differences(const HostState& h, const std::vector<float>& in, const std::vector<float>& dev,
-                         const std::vector<uint32_t>& q, const std::string& what) {
+                         const std::vector<uint32_t>& q, const std::string& what,
+                         const std::vector<uint32_t>& skip = {}) {
   const uint32_t n = h.n, nf = AW_SF_COUNT, nstate = AW_SF_COUNT + AW_SU_COUNT;
   size_t differ = 0;
   for (uint32_t f = 0; f < nstate; ++f)
     for (uint32_t i = 0; i < n; ++i) {
+      if (std::find(skip.begin(), skip.end(), f) != skip.end()) continue;
       const void* host = f < nf ? static_cast<const void*>(&h.sf[f * n + i]) : static_cast<const void*>(&h.su[(f - nf) * n + i]);
       if (std::memcmp(host, &dev[f * n + i], 4) != 0 && differ++ < 10) {
         float v;
@@ -271,6 +277,204 @@ TEST(ShadeLanes, DiffuseStageEqualsTheHostBitForBit) {
     EXPECT_GT(rays, live / 4) << "gi " << gi;
     EXPECT_GT(shadows, live / 4) << "gi " << gi;
   }
+}
+
+
+// The whole classification stage (classify_hit: a light hit with MIS, an escape to the
+// constant environment and a soft sun, a triangle or analytic sphere hit and its shading
+// point, the feature guard, incandescence of a light-sampled triangle and of a plain one
+// under AO, the end of the path at max_depth, the lobe's choice among diffuse, translucency and
+// refraction, AO's queue) on a path state of 4096 slots in blocks of 16, against the host one
+// path at a time: every word of every slot but those of the texture step, and the next queue.
+// Lanes of a block hit different primitives, materials and lights. (The host's generic build
+// has textures: its texture step writes the footprint, cone_w and sp_t*, and the material of
+// every surface hit, also of a path that then ends. A program on lanes is built only for
+// scenes without textures, and so are the one-path kernels beside it, which skip that step.)
+TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
+  const uint32_t n = 4096, nf = AW_SF_COUNT, nu = AW_SU_COUNT, nstate = nf + nu;
+  std::mt19937 rng(90411);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  // Materials: 0 white, 1 diffuse + translucency + refraction, 2 clear refraction (skip weak
+  // internal reflections, refraction depth 1), 3 incandescent (the light-sampled triangle's),
+  // 4 incandescent under AO (multiply, applied to incandescence), 5 black.
+  std::vector<MaterialGpu> mats(6);
+  for (size_t k = 0; k < mats.size(); ++k) {
+    MaterialGpu& m = mats[k];
+    std::memset(&m, 0, sizeof m);
+    store_f3(m.diffuse_color, glm::vec3(0.2f + 0.6f * uni(rng), 0.2f + 0.6f * uni(rng), 0.2f + 0.6f * uni(rng)));
+    m.diffuse_weight = k == 5 ? 0.0f : 1.0f;
+    m.refl_depth = m.refr_depth = 3u;
+    m.cutout_opacity = 1.0f;
+    m.tex_count = 0u;
+    m.cutout_binding = m.bump_binding = AW_NONE;
+  }
+  mats[1].refr_weight = 0.5f;
+  store_f3(mats[1].refr_color, glm::vec3(0.9f, 0.8f, 0.7f));
+  mats[1].flags |= AW_MAT_TRANSLUCENCY;
+  mats[1].transl_weight = 0.6f;
+  store_f3(mats[1].transl_color, glm::vec3(0.5f, 0.6f, 0.7f));
+  mats[2].refr_weight = 1.0f;
+  mats[2].refr_ior = 1.5f;
+  store_f3(mats[2].refr_color, glm::vec3(1.0f, 1.0f, 1.0f));
+  mats[2].flags |= AW_MAT_SKIP_WEAK_INTERNAL;
+  mats[2].refr_depth = 1u;
+  store_f3(mats[3].incandescent, glm::vec3(2.0f, 1.5f, 1.0f));
+  store_f3(mats[4].incandescent, glm::vec3(0.5f, 0.5f, 0.5f));
+  mats[4].ao_samples = 4u;
+  mats[4].ao_flags = AW_AO_MULTIPLY | AW_AO_INCANDESCENCE;
+  // Geometry: a floor of two triangles (with and without vertex normals), a wall whose vertex
+  // normals lean away (the silhouette guards), a degenerate triangle, the light-sampled
+  // triangle, and a sphere (one vertex, its centre: types/bvh.h).
+  std::vector<VertexData> verts;
+  auto vertex = [&](glm::vec3 p, glm::vec3 nrm, float has_n) {
+    VertexData v;
+    std::memset(&v, 0, sizeof v);
+    v.p[0] = p.x, v.p[1] = p.y, v.p[2] = p.z;
+    v.n[0] = nrm.x, v.n[1] = nrm.y, v.n[2] = nrm.z, v.n[3] = has_n;
+    verts.push_back(v);
+    return uint32_t(verts.size() - 1);
+  };
+  const glm::vec3 up(0, 1, 0);
+  uint32_t f0 = vertex({-1, 0, -1}, up, 1), f1 = vertex({1, 0, -1}, glm::normalize(glm::vec3(0.1f, 1, 0)), 1),
+           f2 = vertex({1, 0, 1}, up, 1), f3 = vertex({-1, 0, 1}, up, 0);
+  uint32_t w0 = vertex({-1, 0, -1}, glm::normalize(glm::vec3(0, 1, 1)), 1),
+           w1 = vertex({1, 0, -1}, glm::normalize(glm::vec3(0, -1, 0.2f)), 1),
+           w2 = vertex({0, 2, -1}, glm::normalize(glm::vec3(0.3f, 0, 1)), 1);
+  uint32_t d0 = vertex({0, 1, 0}, up, 0), d1 = vertex({0.5f, 1, 0}, up, 0), d2 = vertex({1, 1, 0}, up, 0);
+  uint32_t l0 = vertex({-0.3f, 1.9f, -0.3f}, -up, 0), l1 = vertex({0.3f, 1.9f, -0.3f}, -up, 0),
+           l2 = vertex({0, 1.9f, 0.3f}, -up, 0);
+  VertexData sph;
+  std::memset(&sph, 0, sizeof sph);
+  sph.p[0] = 0.4f, sph.p[1] = 0.5f, sph.p[2] = 0.2f, sph.p[3] = 0.35f;
+  sph.n[0] = 1.0f, sph.t[1] = 1.0f;
+  verts.push_back(sph);
+  const uint32_t sc_v = uint32_t(verts.size() - 1);
+  std::vector<TriangleInfo> tris = {{{f0, f1, f2}, 0u}, {{f0, f2, f3}, 1u},         {{w0, w1, w2}, 2u},
+                                    {{d0, d1, d2}, 0u}, {{l0, l1, l2}, 3u},         {{f0, f2, f3}, 4u},
+                                    {{f0, f1, f2}, 5u}, {{sc_v, AW_SPHERE_MARK, sc_v}, 1u}, {{sc_v, AW_SPHERE_MARK, sc_v}, 2u}};
+  const uint32_t sphere_first = 7u;
+  // Lights: the soft sun (a light at infinity first), a quad, a point, a sphere, the triangle.
+  LightGpu sun = shade_test_light(AW_LIGHT_SUN, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, std::cos(0.3f), AW_LIGHT_VISIBLE);
+  store_f3(sun.n, glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f)));
+  sun.area = 1.0f - std::cos(0.3f);
+  LightGpu tri_l = shade_test_light(AW_LIGHT_TRIANGLE, {-0.3f, 1.9f, -0.3f}, {0.6f, 0, 0}, {0.3f, 0, 0.6f}, 0.0f, 0u);
+  tri_l.area *= 0.5f;
+  std::vector<LightGpu> lights = {
+      sun,
+      shade_test_light(AW_LIGHT_QUAD, {-0.5f, 1.99f, -0.5f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 0.0f,
+                       AW_LIGHT_RECTANGLE),
+      shade_test_light(AW_LIGHT_POINT, {0.3f, 1.5f, 0.2f}, {0, 0, 0}, {0, 0, 0}, 0.0f, 0u),
+      shade_test_light(AW_LIGHT_SPHERE, {-0.6f, 0.8f, 0.4f}, {0, 0, 0}, {0, 0, 0}, 0.2f, 0u), tri_l};
+  for (size_t k = 0; k < lights.size(); ++k) {
+    lights[k].select_pdf = 1.0f / 5.0f;
+    lights[k].alias_q = 1.0f;
+    lights[k].alias = uint32_t(k);
+  }
+  std::vector<uint32_t> tri_light(tris.size(), AW_NONE);
+  tri_light[4] = 4u;
+  const uint32_t hittable[] = {1u, 3u};  // lights a ray finds as lights (hit_light)
+
+  std::vector<float> in((nstate + 1) * n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float f[AW_SF_COUNT];
+    for (uint32_t k = 0; k < nf; ++k) f[k] = uni(rng);
+    uint32_t u[AW_SU_COUNT];
+    for (uint32_t k = 0; k < nu; ++k) u[k] = rng();
+    glm::vec3 o(2.0f * uni(rng) - 1.0f, 0.2f + 1.6f * uni(rng), 2.0f * uni(rng) - 1.0f);  // the previous vertex
+    uint32_t kind = rng() % 8u;
+    u[AW_SU_hit_light] = AW_NONE;
+    u[AW_SU_hit_prim] = AW_NONE;
+    u[AW_SU_hit_inst] = AW_NONE;
+    glm::vec3 target;
+    if (kind == 0) {  // a light
+      uint32_t l = hittable[rng() % 2u];
+      u[AW_SU_hit_light] = l;
+      target = l == 1u ? glm::vec3(-0.5f + uni(rng), 1.99f, -0.5f + uni(rng))
+                       : glm::vec3(-0.6f, 0.8f, 0.4f) + 0.2f * unit(rng);
+    } else if (kind == 1) {  // the environment (half of them near the sun)
+      target = o + (rng() % 2u ? unit(rng) : glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f) + 0.2f * unit(rng)));
+    } else {
+      uint32_t t = rng() % uint32_t(tris.size());
+      u[AW_SU_hit_prim] = t;
+      if (t >= sphere_first) {
+        target = glm::vec3(0.4f, 0.5f, 0.2f) + 0.35f * unit(rng);
+        if (rng() % 4u == 0u) o = glm::vec3(0.4f, 0.5f, 0.2f) + 0.1f * unit(rng);  // from inside
+        f[AW_SF_hit_u] = f[AW_SF_hit_v] = 0.0f;
+      } else {
+        float b1 = uni(rng), b2 = uni(rng);
+        if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
+        const TriangleInfo& ti = tris[t];
+        auto pos = [&](uint32_t v) { return glm::vec3(verts[v].p[0], verts[v].p[1], verts[v].p[2]); };
+        target = (1.0f - b1 - b2) * pos(ti.v[0]) + b1 * pos(ti.v[1]) + b2 * pos(ti.v[2]);
+        f[AW_SF_hit_u] = b1, f[AW_SF_hit_v] = b2;
+      }
+    }
+    glm::vec3 d = target - o;
+    float dist = glm::length(d);
+    d /= dist;
+    f[AW_SF_ray_ox] = o.x, f[AW_SF_ray_oy] = o.y, f[AW_SF_ray_oz] = o.z;
+    f[AW_SF_ray_dx] = d.x, f[AW_SF_ray_dy] = d.y, f[AW_SF_ray_dz] = d.z;
+    f[AW_SF_hit_t] = dist;
+    f[AW_SF_sp_px] = o.x, f[AW_SF_sp_py] = o.y, f[AW_SF_sp_pz] = o.z;
+    f[AW_SF_bsdf_pdf] = rng() % 5u == 0u ? 0.0f : 4.0f * uni(rng);
+    f[AW_SF_emit_scale] = rng() % 3u == 0u ? 0.5f : 1.0f;
+    f[AW_SF_rad_r] = f[AW_SF_rad_g] = f[AW_SF_rad_b] = 0.0f;
+    for (uint32_t k = 0; k < nf; ++k) in[k * n + i] = f[k];
+    u[AW_SU_pixel] = rng() % 100000u;
+    u[AW_SU_sample] = rng() % 512u;
+    u[AW_SU_bounce] = rng() % 7u;
+    u[AW_SU_flags] = rng() & (AW_PATH_SPECULAR | AW_PATH_FRONT | AW_PATH_HAS_SHADOW);
+    if (rng() % 10u == 0u) u[AW_SU_flags] |= AW_PATH_EMITTERS_ONLY;
+    u[AW_SU_depths] = (rng() % 3u) << 16;
+    u[AW_SU_medium] = AW_NONE;
+    u[AW_SU_material] = rng() % uint32_t(mats.size());
+    for (uint32_t k = 0; k < nu; ++k) std::memcpy(&in[(nf + k) * n + i], &u[k], 4);
+    in[nstate * n + i] = i % 7 == 3 ? 0.0f : 1.0f;
+  }
+  RenderParams rp;
+  std::memset(&rp, 0, sizeof rp);
+  rp.sampler = AW_SAMPLER_SOBOL;
+  rp.seed = 5u;
+  rp.max_depth = 5u;
+  rp.num_lights = uint32_t(lights.size());
+  rp.num_infinite = 1u;
+  rp.has_mesh_lights = 1u;
+  rp.env_radiance[0] = 0.1f, rp.env_radiance[1] = 0.2f, rp.env_radiance[2] = 0.3f;
+  std::vector<float> dev = aw::lobe_test::run_device_probe(
+      "tests/probe_lanes.cl", "probe_classify_lanes", in, nstate + 1, n,
+      {{tris.data(), tris.size() * sizeof(TriangleInfo)},
+       {verts.data(), verts.size() * sizeof(VertexData)},
+       {mats.data(), mats.size() * sizeof(MaterialGpu)},
+       {lights.data(), lights.size() * sizeof(LightGpu)},
+       {tri_light.data(), tri_light.size() * sizeof(uint32_t)},
+       {&rp, sizeof rp}});
+  HostState h(in, n);
+  SceneRef sc;
+  std::memset(&sc, 0, sizeof sc);
+  sc.tri_info = tris.data();
+  sc.verts = verts.data();
+  sc.materials = mats.data();
+  sc.lights = lights.data();
+  sc.tri_light = tri_light.data();
+  std::vector<uint32_t> q(n, 0u);
+  size_t count[AW_Q_COUNT] = {};
+  size_t live = 0, lit = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    if (in[nstate * n + i] == 0.0f) continue;
+    ++live;
+    q[i] = classify_hit(h.path(i), sc, &rp);
+    if (q[i] < AW_Q_COUNT) ++count[q[i]];
+    lit += h.sf[AW_SF_rad_r * n + i] > 0.0f;
+  }
+  const std::vector<uint32_t> texture_step = {AW_SF_cone_w, AW_SF_sp_tu, AW_SF_sp_tv, AW_SF_sp_tf, AW_SF_sp_tu2,
+                                              AW_SF_sp_tv2, AW_SF_sp_tf2, AW_SF_COUNT + AW_SU_material};
+  EXPECT_EQ(count_differences(h, in, dev, q, "", texture_step), 0u);
+  // Every way out is taken, often.
+  EXPECT_GT(count[AW_Q_DONE], live / 10);
+  EXPECT_GT(count[AW_Q_AO], live / 100);
+  for (uint32_t lid : {uint32_t(AW_LID_DIFFUSE), uint32_t(AW_LID_TRANSLUCENCY), uint32_t(AW_LID_REFRACTION)})
+    EXPECT_GT(count[AW_Q_LOBE + lid], live / 50) << "lobe " << lid;
+  EXPECT_GT(lit, live / 10);
 }
 
 }  // namespace
