@@ -95,7 +95,12 @@ bool decode_exr(const unsigned char* bytes, size_t size, TextureDesc* t, std::st
     t->eight_bit = false;
     t->texels.assign(size_t(w) * size_t(h) * 4, 1.0f);
     Imf::FrameBuffer fb;
-    float* base = t->texels.data() - (int64_t(dw.min.y) * w + dw.min.x) * 4;
+    // OpenEXR addresses texel (x, y) as base + x * xs + y * ys in data-window coordinates, so
+    // base lies before the buffer by the window's origin. That offset is taken on integers
+    // (wrapping, defined): as pointer arithmetic it overflows for a window far from the origin,
+    // which is undefined (UBSan, fuzz_image, 2026-12-05).
+    const uintptr_t origin = uintptr_t(int64_t(dw.min.y) * w + dw.min.x) * 4u * sizeof(float);
+    float* base = reinterpret_cast<float*>(reinterpret_cast<uintptr_t>(t->texels.data()) - origin);
     const size_t xs = 4 * sizeof(float), ys = size_t(w) * 4 * sizeof(float);
     if (has_rgb) {
       fb.insert("R", Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + 0), xs, ys, 1, 1, 0.0));
