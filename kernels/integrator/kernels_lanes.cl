@@ -30,35 +30,35 @@
 // The appends of a work-item's W paths: lane k goes to queue q.sk (none when AW_Q_COUNT),
 // slot slot0 + k. Aggregated per work-item, not per work-group as wg_append
 // (stage_kernel.h): one global atomic per queue its lanes name, so at most W paths per atomic
-// and usually several. No barrier: a lane kernel with wg_append's barriers corrupted paths
-// when PoCL 3.1 ran work-groups on two threads, and was right on one (Cornell box, 128x128;
-// with the lanes' queues in local memory too), and without barriers it is right and
-// deterministic. Where inside PoCL it goes wrong was not isolated; what differs from the
-// one-path kernels is the size of what each work-item holds around the barriers (PoCL keeps
-// a work-item's values that live across a barrier in context arrays of the work-group
-// function), 16 lanes of every value.
+// and usually several. As a histogram: count the lanes per queue, one atomic per queue that
+// has any, then one pass over the lanes writing each where its queue's cursor is; the tags
+// are one masked vector store. Within a queue the lanes keep their order, so the queues are
+// the same as the earlier nested loops' (queue by queue, lane by lane) wrote.
+//
+// No barrier: a lane kernel with wg_append's barriers corrupted paths when PoCL 3.1 ran
+// work-groups on two threads, and was right on one (Cornell box, 128x128; with the lanes'
+// queues in local memory too), and without barriers it is right and deterministic. Where
+// inside PoCL it goes wrong was not isolated; what differs from the one-path kernels is the
+// size of what each work-item holds around the barriers (PoCL keeps a work-item's values
+// that live across a barrier in context arrays of the work-group function), 16 lanes of
+// every value.
 static inline void append_lanes(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
                                 luint q, uint slot0) {
+  lmask listed = q < (luint)(AW_Q_COUNT);
+  if (!L_ANY(listed)) return;
   uint qk[AW_LANES];
-  L_STORE(q, qk, 0);
-  uint taken = 0u;  // lanes already appended
+  L_STORE(L_SEL(listed, q, (luint)(AW_Q_COUNT)), qk, 0);
+  uint at[AW_Q_COUNT + 1];  // per queue: lanes, then the next free entry; [AW_Q_COUNT]: none
+  for (uint i = 0u; i <= (uint)AW_Q_COUNT; ++i) at[i] = 0u;
+  for (uint k = 0u; k < AW_LANES; ++k) ++at[qk[k]];
+  for (uint i = 0u; i < (uint)AW_Q_COUNT; ++i)
+    if (at[i] != 0u) at[i] = i * pool + atomic_add(&counters[i], at[i]);
   for (uint k = 0u; k < AW_LANES; ++k) {
     uint qq = qk[k];
-    if (qq >= AW_Q_COUNT || ((taken >> k) & 1u)) continue;
-    uint lanes = 0u, n = 0u;
-    for (uint j = k; j < AW_LANES; ++j)
-      if (qk[j] == qq) {
-        lanes |= 1u << j;
-        ++n;
-      }
-    taken |= lanes;
-    uint at = atomic_add(&counters[qq], n);
-    for (uint j = k; j < AW_LANES; ++j)
-      if ((lanes >> j) & 1u) {
-        queues[qq * pool + at++] = slot0 + j;
-        if (qq != AW_Q_SHADOW) tags[slot0 + j] = qq;
-      }
+    if (qq < (uint)AW_Q_COUNT) queues[at[qq]++] = slot0 + k;
   }
+  lmask tagged = listed && q != (luint)(AW_Q_SHADOW);
+  L_STORE(L_SEL(tagged, q, L_LOAD(tags + slot0, 0)), tags + slot0, 0);
 }
 #define AW_APPEND_LANES(q, slot0) append_lanes(counters, queues, tags, rp.pool_size, (q), (slot0))
 
