@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #include "host/cl/kernel_source.h"
 
@@ -11,14 +13,19 @@ namespace {
 constexpr size_t kWg = 64;
 }
 
-ClTracer::ClTracer(ClRuntime& rt, const FlatBvh& bvh, const std::string& kernel_dir) : rt_(rt) {
+ClTracer::ClTracer(ClRuntime& rt, const FlatBvh& bvh, const std::string& kernel_dir, int lanes)
+    : rt_(rt), lanes_(lanes) {
+  if (lanes != 1 && lanes != 16) throw std::invalid_argument("ClTracer: lanes must be 1 or 16, not " + std::to_string(lanes));
+  if (lanes > 1 && !bvh.instances.empty())
+    throw std::invalid_argument("ClTracer: the lane traversal has no instances (kernels/bvh/traverse_lanes.h)");
   // Triangles only (AW_FEATURES 0: no analytic-sphere branch in the leaf loop), as the BVH
   // tests and the traversal benchmark measure the triangle traversal against Embree's; the
   // instance branch only for a two-level BVH.
   const unsigned features = bvh.instances.empty() ? 0u : unsigned(AW_FEATBIT_INSTANCE);
   program_ = rt.build(assemble_kernel_source("bvh/trace_rays.cl", kernel_dir),
-                      "-cl-std=CL1.2 -DAW_FEATURES=" + std::to_string(features) + "u -DAW_WG=" + std::to_string(kWg));
-  kernel_ = cl::Kernel(program_, "trace_rays");
+                      "-cl-std=CL1.2 -DAW_FEATURES=" + std::to_string(features) + "u -DAW_WG=" + std::to_string(kWg) +
+                          " -DAW_LANES=" + std::to_string(lanes));
+  kernel_ = cl::Kernel(program_, lanes > 1 ? "trace_rays_lanes" : "trace_rays");
   nodes_ = rt.buffer("BVH nodes", bvh.nodes.size() * sizeof(BvhNode), CL_MEM_READ_ONLY,
                      bvh.nodes.empty() ? nullptr : bvh.nodes.data());
   tris_ = rt.buffer("BVH leaf triangles", bvh.leaf_tris.size() * sizeof(LeafTriangle), CL_MEM_READ_ONLY,
@@ -48,7 +55,8 @@ std::vector<TriangleHit> ClTracer::trace(const std::vector<RayIn>& rays, bool an
   auto& q = rt_.queue();
   q.finish();
   auto t0 = std::chrono::steady_clock::now();
-  q.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange((n + kWg - 1) / kWg * kWg), cl::NDRange(kWg));
+  const size_t items = (n + size_t(lanes_) - 1) / size_t(lanes_);  // one work-item per `lanes_` rays
+  q.enqueueNDRangeKernel(kernel_, cl::NullRange, cl::NDRange((items + kWg - 1) / kWg * kWg), cl::NDRange(kWg));
   q.finish();
   if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::vector<float> raw(size_t(n) * 4);

@@ -20,7 +20,9 @@ static_assert(sizeof(RayIn) == 32, "RayIn is two float4 on the device");
 
 class ClTracer {
  public:
-  ClTracer(ClRuntime& rt, const FlatBvh& bvh, const std::string& kernel_dir = "");
+  // lanes 1: the one-ray traversal (kernel trace_rays); 16: the lane traversal, 16 rays per
+  // work-item (trace_rays_lanes, kernels/bvh/traverse_lanes.h; no instances).
+  ClTracer(ClRuntime& rt, const FlatBvh& bvh, const std::string& kernel_dir = "", int lanes = 1);
   // Traces all rays; returns one hit per ray (prim = -1 for a miss, inst = AW_NONE outside instances). *seconds gets the
   // kernel time only (upload and download excluded), when given.
   std::vector<TriangleHit> trace(const std::vector<RayIn>& rays, bool any_hit, double* seconds = nullptr);
@@ -31,6 +33,7 @@ class ClTracer {
   cl::Kernel kernel_;
   cl::Buffer nodes_, tris_, insts_;
   uint32_t num_nodes_;
+  int lanes_;
 };
 
 }  // namespace aw

@@ -207,6 +207,12 @@ int main(int argc, char** argv) {
   app.add_flag("--no-lanes", no_lanes,
                "Run every stage one path per work-item; by default a CPU device runs the stages written on "
                "lanes 16 paths per work-item where the scene allows (the same image bit for bit; docs/performance.md)");
+  std::string lane_traversal = "auto";
+  app.add_option("--lane-traversal", lane_traversal,
+                 "With lanes, trace the ray stages' rays 16 per work-item too: auto (where measured to pay on "
+                 "this device for a scene of this size; docs/performance.md), on (whenever the scene allows), off")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->take_last();
   app.add_option("-D,--define", defines,
                  "Set any scene key, e.g. -D render.max_depth=4 -D materials.floor.diffuse.color=[1,0,0]")
       ->take_last()
@@ -433,6 +439,7 @@ int main(int argc, char** argv) {
     opts.dense_fraction = dense_fraction;
     opts.generic_kernels = generic;
     opts.lanes = !no_lanes;
+    opts.lane_traversal = lane_traversal == "on" ? 1 : lane_traversal == "off" ? 0 : -1;
     opts.threads = threads;
     opts.kernel_dir = kernel_dir;
     opts.progress = !no_progress && aw::stderr_is_terminal();

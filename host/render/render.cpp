@@ -113,6 +113,7 @@ std::string RenderStats::summary() const {
   s << "renderer        " << renderer << " on " << device << "\n";
   if (!device_choice.empty()) s << "device choice   " << device_choice << "\n";
   if (!kernel_features.empty()) s << "kernels         " << kernel_features << "\n";
+  if (!lanes.empty()) s << "lanes           " << lanes << "\n";
   std::snprintf(buf, sizeof buf, "time            %.3f s total (BVH %.3f s, kernel build %.3f s%s%s, setup %.3f s)\n",
                 total_seconds, bvh_seconds, compile_seconds, kernel_build.empty() ? "" : ": ", kernel_build.c_str(),
                 setup_seconds);

@@ -44,6 +44,10 @@ struct RenderOptions {
   // On a CPU device, run the stages written on lanes 16 paths per work-item when the scene
   // allows it (kernels/integrator/kernels_lanes.cl); false: every stage one path per work-item.
   bool lanes = true;
+  // With lanes: the ray stages too (the lane traversal, kernels/bvh/traverse_lanes.h)?
+  // -1: where it was measured to pay on this device for a scene of this size (wavefront.cpp,
+  // lane_traversal_limit); 1: whenever the scene allows it; 0: never.
+  int lane_traversal = -1;
   std::vector<std::string> force_off;  // feature names to compile out anyway (tests of the guard)
   const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
   // Parts of a frame (docs/production.md). The film covers `window` (empty: the whole frame)

@@ -304,12 +304,32 @@ class Wavefront {
     build_lanes_program(need, options);
   }
 
+  // The most primitives (triangles and analytic spheres) for which the ray stages run on lanes
+  // by default (--lane-traversal auto). The lane traversal visits every node that any of a
+  // work-item's 16 rays enters, and the rays of neighbouring slots are unrelated after the
+  // first bounce, so it pays while the tree is small enough that they share most of it.
+  // Measured (docs/performance.md, "The ray stages on lanes": Cornell box, race scenes, torus
+  // knots of 386 to 24578 triangles, 256x256, 32 spp): on Intel's CPU runtime the closest hit
+  // is 2x as fast at 34 triangles, 1.13x at 2306, 1.05x at 6146, 0.92x at 24578, and the
+  // shadow rays (which a one-ray traversal leaves at their first hit) 1.5x at 34, 1.02x at
+  // 770, 0.95x at 2306. PoCL 3.1 compiles the lane code less well (the race spheres, 7
+  // primitives: 1.44x closest, 1.33x shadow; the Cornell box, 34: 1.0x and 0.88x; 386: 0.91x
+  // and 0.73x).
+  struct LaneTraversalLimit {
+    size_t closest, shadow;
+  };
+  static LaneTraversalLimit lane_traversal_limit(const DeviceInfo& d) {
+    if (d.platform.find("Intel") != std::string::npos) return {8192, 1024};
+    return {32, 32};
+  }
+
   // The stages written on lanes (kernels/integrator/kernels_lanes.cl), 16 paths per
   // work-item: on a CPU device (a GPU's work-items are SIMD lanes already), and only for a
   // scene that needs nothing the lane program leaves out (its header says what); otherwise
   // every stage runs one path per work-item, and the stats say why.
   void build_lanes_program(const FeatureSet& need, const std::string& options) {
     classify_on_lanes_ = false;
+    closest_on_lanes_ = shadow_on_lanes_ = false;
     if (!opts_.lanes) {
       st_.lanes = "off (--no-lanes)";
       return;
@@ -336,11 +356,37 @@ class Wavefront {
     for (int i : {FeatureSet::REFLECTION, FeatureSet::FOG, FeatureSet::INSTANCE})
       if (need.on[i]) classify_why += (classify_why.empty() ? "" : ", ") + FeatureSet::lower_name(i);
     classify_on_lanes_ = classify_why.empty();
+    // The lane traversal leaves out instances and cutouts (kernels/bvh/traverse_lanes.h), and
+    // pays only where its rays share most of the nodes they visit: see lane_traversal_limit.
+    std::string rays_why;
+    for (int i : {FeatureSet::INSTANCE, FeatureSet::CUTOUT})
+      if (need.on[i]) rays_why += (rays_why.empty() ? "" : ", ") + FeatureSet::lower_name(i);
+    if (!rays_why.empty()) rays_why = "the scene needs " + rays_why;
+    const size_t primitives = packed_.soup.indices.size() + packed_.soup.spheres.size();
+    const LaneTraversalLimit limit = lane_traversal_limit(rt_.info());
+    if (rays_why.empty() && opts_.lane_traversal == 0) rays_why = "--lane-traversal off";
+    std::string shadow_why = rays_why;
+    auto too_many = [&](size_t most) {
+      return std::to_string(primitives) + " primitives, above the " + std::to_string(most) +
+             " where it pays on this device; --lane-traversal on to force";
+    };
+    if (rays_why.empty() && opts_.lane_traversal < 0 && primitives > limit.closest) rays_why = too_many(limit.closest);
+    if (shadow_why.empty() && opts_.lane_traversal < 0 && primitives > limit.shadow) shadow_why = too_many(limit.shadow);
+    closest_on_lanes_ = rays_why.empty();
+    shadow_on_lanes_ = shadow_why.empty();
     st_.lanes = std::to_string(kLanes) + " paths per work-item:";
+    if (closest_on_lanes_) st_.lanes += " intersect_closest";
     if (classify_on_lanes_) st_.lanes += " classify_hit";
 #define AW_LANES_STAGE_NAME(ID, name, FEATURE, TRAITS) st_.lanes += " shade_" #name;
     AW_LOBE_LIST_ON_LANES(AW_LANES_STAGE_NAME)
 #undef AW_LANES_STAGE_NAME
+    if (shadow_on_lanes_) st_.lanes += " intersect_shadow";
+    if (!closest_on_lanes_ && !shadow_on_lanes_ && rays_why == shadow_why)
+      st_.lanes += " (the ray stages one path per work-item: " + rays_why + ")";
+    else if (!closest_on_lanes_)
+      st_.lanes += " (intersect_closest one path per work-item: " + rays_why + ")";
+    if (!shadow_on_lanes_ && (closest_on_lanes_ || rays_why != shadow_why))
+      st_.lanes += " (intersect_shadow one path per work-item: " + shadow_why + ")";
     if (!classify_on_lanes_) st_.lanes += " (classify_hit one path per work-item: the scene needs " + classify_why + ")";
   }
 
@@ -457,6 +503,11 @@ class Wavefront {
     };
     regen_ = add("regenerate", AW_Q_FREE, false, true, true);
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
+    if (closest_on_lanes_) {
+      Stage& s = stages_[isect_];
+      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_intersect_closest_lanes");
+      bind_stage_args(s.lanes_kernel, buf_);
+    }
     classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
     if (classify_on_lanes_) {
       Stage& s = stages_[classify_];
@@ -477,6 +528,11 @@ class Wavefront {
 #undef AW_LANES_KERNEL
     }
     shadow_ = add("intersect_shadow", AW_Q_SHADOW, true, false, true);
+    if (shadow_on_lanes_) {
+      Stage& s = stages_[shadow_];
+      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_intersect_shadow_lanes");
+      bind_stage_args(s.lanes_kernel, buf_);
+    }
     // regenerate takes part of the free queue, accumulate sees small queues:
     // they run over their queue entries only.
     accum_ = add("accumulate", AW_Q_DONE, false, true, true);
@@ -657,6 +713,8 @@ class Wavefront {
   cl::Program program_;
   cl::Program lanes_program_;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
   bool classify_on_lanes_ = false;  // its classify_hit too (build_lanes_program)
+  bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
+  bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
   RenderParams rp_{};
   uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0;
   uint32_t first_sample_ = 0;  // the sample of job 0 (begin_film)

@@ -6,6 +6,7 @@
 #define AW_BVH_INTERSECT_SPHERE_H
 
 #include "common/compat.h"
+#include "common/lanes.h"
 
 // Nearest t in (t_min, t_max) where org + t dir meets the sphere (c, r), or 0 for none.
 // The quadratic's discriminant is computed as r^2 - |f - (f.d / d.d) d|^2 with f = org - c,
@@ -13,27 +14,24 @@
 // c'/q and q/a with q = b' + sign(b') sqrt(a disc), which avoids cancellation (Haines,
 // Günther & Akenine-Möller 2019, "Precision Improvements for Ray/Sphere Intersection", Ray
 // Tracing Gems ch. 7, Sec. 7.2.2 and eq. 7.8-7.10).
-AW_FN int intersect_sphere(float3 org, float3 dir, float3 c, float r, float t_min, float t_max, float* t_hit) {
-  float3 f = org - c;
-  float a = dot(dir, dir);
-  float b = -dot(f, dir);  // b' = -f.d (the half b, sign flipped)
-  float3 l = f + dir * (b / a);
-  float disc = r * r - dot(l, l);
-  if (!(disc >= 0.0f) || !(a > 0.0f)) return 0;
-  float cc = dot(f, f) - r * r;
-  float q = b + copysign(sqrt(a * disc), b);
-  float t0 = q != 0.0f ? cc / q : 0.0f;
-  float t1 = q / a;
-  float lo = fmin(t0, t1), hi = fmax(t0, t1);
-  if (lo > t_min && lo < t_max) {
-    *t_hit = lo;
-    return 1;
-  }
-  if (hi > t_min && hi < t_max) {
-    *t_hit = hi;
-    return 1;
-  }
-  return 0;
+// On lanes (common/lanes.h): W rays against one sphere at W > 1; where it returns false,
+// *t_hit holds anything.
+AW_FN lmask intersect_sphere(lfloat3 org, lfloat3 dir, float3 c, float r, lfloat t_min, lfloat t_max, lfloat* t_hit) {
+  lfloat3 f = l3_sub(org, l3_bcast(c));
+  lfloat a = l3_dot(dir, dir);
+  lfloat b = -l3_dot(f, dir);  // b' = -f.d (the half b, sign flipped)
+  lfloat3 l = l3_add(f, l3_scale(dir, b / a));
+  lfloat disc = r * r - l3_dot(l, l);
+  lmask hit = disc >= 0.0f && a > 0.0f;
+  if (!L_ANY(hit)) return hit;
+  lfloat cc = l3_dot(f, f) - r * r;
+  lfloat q = b + copysign(sqrt(a * disc), b);
+  lfloat t0 = L_SEL(q != 0.0f, cc / q, (lfloat)(0.0f));
+  lfloat t1 = q / a;
+  lfloat lo = fmin(t0, t1), hi = fmax(t0, t1);
+  lmask lo_in = lo > t_min && lo < t_max, hi_in = hi > t_min && hi < t_max;
+  *t_hit = L_SEL(lo_in, lo, hi);
+  return hit && (lo_in || hi_in);
 }
 
 // The sphere's frame: its pole axis y (UV v runs from -y to +y) and the axis x where u = 0,

@@ -2,18 +2,20 @@
 // Intersection", JCGT 2(1). Rays are sheared into a space where they run along +z (Sec. 3),
 // so edge tests share their arithmetic between neighbouring triangles and a ray through an
 // edge or vertex hits exactly one of the triangles that share it — no cracks, no double hits.
+// Written on lanes (common/lanes.h): one ray per call at W = 1 (the one-ray traversal, the
+// host's tests), W rays against one triangle at W > 1 (the lane traversal, bvh/traverse.h);
+// every lane computes what W = 1 computes for its ray.
 #ifndef AW_BVH_INTERSECT_TRIANGLE_H
 #define AW_BVH_INTERSECT_TRIANGLE_H
 
 #include "common/compat.h"
+#include "common/lanes.h"
 
 // Per-ray constants of the shear transform (Sec. 3, Fig. 2).
 typedef struct {
-  int kx, ky, kz;
-  float sx, sy, sz;
+  lint kx, ky, kz;
+  lfloat sx, sy, sz;
 } RayShear;
-
-AW_FN float f3_get(float3 v, int k) { return k == 0 ? v.x : (k == 1 ? v.y : v.z); }
 
 // a b - c d with an error of at most 1.5 ulps of the result, however much the products cancel
 // (Kahan's algorithm with a fused multiply-add: Jeannerod, Louvet & Muller 2013, "Further
@@ -25,53 +27,56 @@ AW_FN float diff_of_products(float a, float b, float c, float d) {
   return fma(a, b, -cd) + err;
 }
 
-AW_FN RayShear ray_shear_make(float3 dir) {
+AW_FN RayShear ray_shear_make(lfloat3 dir) {
   RayShear s;
-  float ax = fabs(dir.x), ay = fabs(dir.y), az = fabs(dir.z);
+  lfloat ax = fabs(dir.x), ay = fabs(dir.y), az = fabs(dir.z);
   // kz = dimension where the direction is largest in magnitude.
-  s.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
-  s.kx = s.kz + 1 == 3 ? 0 : s.kz + 1;
-  s.ky = s.kx + 1 == 3 ? 0 : s.kx + 1;
+  s.kz = L_SEL(ax > ay, L_SEL(ax > az, (lint)(0), (lint)(2)), L_SEL(ay > az, (lint)(1), (lint)(2)));
+  s.kx = L_SEL(s.kz + 1 == 3, (lint)(0), s.kz + 1);
+  s.ky = L_SEL(s.kx + 1 == 3, (lint)(0), s.kx + 1);
   // Swap kx and ky to preserve the winding (and so the sign convention of u, v).
-  if (f3_get(dir, s.kz) < 0.0f) {
-    int tmp = s.kx;
-    s.kx = s.ky;
-    s.ky = tmp;
-  }
-  float dz = f3_get(dir, s.kz);
-  s.sx = f3_get(dir, s.kx) / dz;
-  s.sy = f3_get(dir, s.ky) / dz;
+  lmask flip = l3_get(dir, s.kz) < 0.0f;
+  lint kx = s.kx;
+  s.kx = L_SEL(flip, s.ky, s.kx);
+  s.ky = L_SEL(flip, kx, s.ky);
+  lfloat dz = l3_get(dir, s.kz);
+  s.sx = l3_get(dir, s.kx) / dz;
+  s.sy = l3_get(dir, s.ky) / dz;
   s.sz = 1.0f / dz;
   return s;
 }
 
-// Returns 1 and writes t, u, v (barycentrics of v1 and v2, Embree's convention) for a hit
-// with tmin < t < *t_max. Triangles are double sided; degenerate ones never hit.
-AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float3 v2,
-                             float t_min, float t_max, float* t_out, float* u_out, float* v_out) {
-  float3 a3 = v0 - org, b3 = v1 - org, c3 = v2 - org;
-  float az = f3_get(a3, s.kz), bz = f3_get(b3, s.kz), cz = f3_get(c3, s.kz);
-  float ax = f3_get(a3, s.kx) - s.sx * az, ay = f3_get(a3, s.ky) - s.sy * az;
-  float bx = f3_get(b3, s.kx) - s.sx * bz, by = f3_get(b3, s.ky) - s.sy * bz;
-  float cx = f3_get(c3, s.kx) - s.sx * cz, cy = f3_get(c3, s.ky) - s.sy * cz;
+// Returns true (per lane) for a hit with t_min < t < t_max and writes t, u, v (barycentrics
+// of v1 and v2, Embree's convention); where it returns false they hold anything. Triangles
+// are double sided; degenerate ones never hit.
+AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, float3 v2,
+                               lfloat t_min, lfloat t_max, lfloat* t_out, lfloat* u_out, lfloat* v_out) {
+  lfloat3 a3 = l3_sub(l3_bcast(v0), org), b3 = l3_sub(l3_bcast(v1), org), c3 = l3_sub(l3_bcast(v2), org);
+  lfloat az = l3_get(a3, s.kz), bz = l3_get(b3, s.kz), cz = l3_get(c3, s.kz);
+  lfloat ax = l3_get(a3, s.kx) - s.sx * az, ay = l3_get(a3, s.ky) - s.sy * az;
+  lfloat bx = l3_get(b3, s.kx) - s.sx * bz, by = l3_get(b3, s.ky) - s.sy * bz;
+  lfloat cx = l3_get(c3, s.kx) - s.sx * cz, cy = l3_get(c3, s.ky) - s.sy * cz;
   // Scaled barycentrics: 2D edge functions (Sec. 3, Eq. 4).
-  float U = cx * by - cy * bx;
-  float V = ax * cy - ay * cx;
-  float W = bx * ay - by * ax;
+  lfloat U = cx * by - cy * bx;
+  lfloat V = ax * cy - ay * cx;
+  lfloat W = bx * ay - by * ax;
   // Edge cases exactly on an edge: recompute in double precision so the sign is exact
   // (Sec. 3.1). Only taken for rays that graze an edge, so the cost is negligible.
-  if (U == 0.0f || V == 0.0f || W == 0.0f) {
-#if AW_DEVICE && !defined(cl_khr_fp64)
-    // No fp64 on this device: the float result stands (still consistent per edge).
+  lmask on_edge = U == 0.0f || V == 0.0f || W == 0.0f;
+  if (L_ANY(on_edge)) {
+#if AW_HAVE_LDOUBLE
+    ldouble dax = L_TO_DOUBLE(ax), day = L_TO_DOUBLE(ay), dbx = L_TO_DOUBLE(bx), dby = L_TO_DOUBLE(by);
+    ldouble dcx = L_TO_DOUBLE(cx), dcy = L_TO_DOUBLE(cy);
+    U = L_SEL(on_edge, L_DOUBLE_TO_FLOAT(dcx * dby - dcy * dbx), U);
+    V = L_SEL(on_edge, L_DOUBLE_TO_FLOAT(dax * dcy - day * dcx), V);
+    W = L_SEL(on_edge, L_DOUBLE_TO_FLOAT(dbx * day - dby * dax), W);
 #else
-    U = (float)((double)cx * (double)by - (double)cy * (double)bx);
-    V = (float)((double)ax * (double)cy - (double)ay * (double)cx);
-    W = (float)((double)bx * (double)ay - (double)by * (double)ax);
+    // No fp64 on this device: the float result stands (still consistent per edge).
 #endif
   }
-  if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return 0;
-  float det = U + V + W;
-  if (det == 0.0f) return 0;
+  lfloat det = U + V + W;
+  lmask hit = !((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) && det != 0.0f;
+  if (!L_ANY(hit)) return hit;
   // The hit distance from the triangle's plane, t = ((vk - org) . n) / (dir . n) with
   // dir . n = (sx n_kx + sy n_ky + n_kz) / sz, instead of the paper's scaled distance
   // T = U az + V bz + W cz (Sec. 3): T adds the edge functions times the vertices' distances
@@ -88,13 +93,14 @@ AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float
   // alone still decide hit or miss (watertight). Written out, not dot/cross, so that the host
   // and the device round the same operations. T stays the fallback where the plane gives no
   // finite t (a sliver whose edges' cross product rounds to 0).
-  float inv_det = 1.0f / det;
+  lfloat inv_det = 1.0f / det;
   float3 e01 = v1 - v0, e12 = v2 - v1, e20 = v0 - v2;
   float l01 = e01.x * e01.x + e01.y * e01.y + e01.z * e01.z;
   float l12 = e12.x * e12.x + e12.y * e12.y + e12.z * e12.z;
   float l20 = e20.x * e20.x + e20.y * e20.y + e20.z * e20.z;
   // vk and its two edges (both pointing away from it, so n keeps the winding's orientation).
-  float3 p = a3, ea = e01, eb = -e20;  // k = 0: the longest edge is v1 v2
+  lfloat3 p = a3;  // k = 0: the longest edge is v1 v2 (the choice is the triangle's, the same in every lane)
+  float3 ea = e01, eb = -e20;
   if (l20 >= l12 && l20 >= l01) {      // k = 1: the longest edge is v2 v0
     p = b3;
     ea = e12;
@@ -112,14 +118,16 @@ AW_FN int intersect_triangle(float3 org, RayShear s, float3 v0, float3 v1, float
   // which tilts it about the sliver's own axis.
   float3 n = make_float3(diff_of_products(ea.y, eb.z, ea.z, eb.y), diff_of_products(ea.z, eb.x, ea.x, eb.z),
                          diff_of_products(ea.x, eb.y, ea.y, eb.x));
-  float dn = s.sx * f3_get(n, s.kx) + s.sy * f3_get(n, s.ky) + f3_get(n, s.kz);
-  float t = (p.x * n.x + p.y * n.y + p.z * n.z) * s.sz / dn;
-  if (!isfinite(t)) t = (U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz)) * inv_det;
-  if (!(t > t_min && t < t_max)) return 0;
+  lfloat3 nl = l3_bcast(n);
+  lfloat dn = s.sx * l3_get(nl, s.kx) + s.sy * l3_get(nl, s.ky) + l3_get(nl, s.kz);
+  lfloat t = (p.x * n.x + p.y * n.y + p.z * n.z) * s.sz / dn;
+  lmask no_plane = !isfinite(t);
+  if (L_ANY(no_plane)) t = L_SEL(no_plane, (U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz)) * inv_det, t);
+  hit = hit && t > t_min && t < t_max;
   *t_out = t;
   *u_out = V * inv_det;
   *v_out = W * inv_det;
-  return 1;
+  return hit;
 }
 
 #endif

@@ -4,6 +4,7 @@
 #define AW_BVH_TRAVERSE_H
 
 #include "common/compat.h"
+#include "common/lanes.h"
 #include "types/bvh.h"
 #include "bvh/instance.h"
 #include "bvh/intersect_sphere.h"
@@ -11,11 +12,12 @@
 #include "common/features.h"
 #include "texture/material_textures.h"
 
+// A ray's hit, per lane at W > 1 (common/lanes.h).
 typedef struct {
-  float t;
-  float u, v;
-  int prim;  // original triangle id, -1 = no hit
-  uint inst; // the instance it belongs to (types/bvh.h, InstanceGpu), AW_NONE for world geometry
+  lfloat t;
+  lfloat u, v;
+  lint prim;  // original triangle id, -1 = no hit
+  luint inst; // the instance it belongs to (types/bvh.h, InstanceGpu), AW_NONE for world geometry
 } TriangleHit;
 
 // Reciprocal direction with zero components replaced by a huge finite value of the same
@@ -42,6 +44,7 @@ AW_FN float4 max4_nn(float4 a, float4 b) {
 #endif
 }
 
+#if AW_LANES == 1
 // The ray as one traversal level sees it: origin, and for the slab tests the broadcast origin
 // and reciprocal direction; for the triangle test the shear (intersect_triangle.h).
 typedef struct {
@@ -211,4 +214,9 @@ AW_FN TriangleHit bvh_intersect(const AW_GLOBAL float4* nodes, uint num_nodes, c
   return bvh_intersect_cut(nodes, num_nodes, tris, insts, org, dir, t_min, t_max, any_hit, 0);
 }
 
+#else  // AW_LANES > 1
+
+#include "bvh/traverse_lanes.h"
+
+#endif
 #endif

@@ -22,8 +22,10 @@
 // Which shared code is written on lanes so far (docs/design.md): the samplers of
 // common/rng.h, the warps, frames and MIS weight of common/sampling.h, and the robust ray
 // origins of common/ray.h, the lobe contract (lobes/lobe.h) and the diffuse lobe (lobes/diffuse.h),
-// and the sampling and densities of the analytic lights (lights/lights.h), the path state's
-// access, the diffuse shading stage and classification (integrator/).
+// and the sampling, densities and intersection of the analytic lights (lights/lights.h), the
+// triangle and sphere tests (bvh/intersect_triangle.h, bvh/intersect_sphere.h) and the lane
+// traversal (bvh/traverse_lanes.h), the path state's access, the ray stages, the diffuse
+// shading stage and classification (integrator/).
 #ifndef AW_COMMON_LANES_H
 #define AW_COMMON_LANES_H
 
@@ -157,6 +159,43 @@ AW_FN lfloat3 l3_neg(lfloat3 a) { return make_lfloat3(-a.x, -a.y, -a.z); }
 AW_FN lfloat3 l3_fabs(lfloat3 a) { return make_lfloat3(fabs(a.x), fabs(a.y), fabs(a.z)); }
 // Rec. 709 luminance, luminance() of compat.h on lanes.
 AW_FN lfloat l_luminance(lfloat3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+// A 3-vector that is the same in every lane (a triangle's vertex, a light's position): at
+// W = 1 the float3 itself.
+#if AW_LANES == 1
+AW_FN lfloat3 l3_bcast(float3 v) { return v; }
+AW_FN float l_hmin(lfloat v) { return v; }
+#else
+AW_FN lfloat3 l3_bcast(float3 v) { return make_lfloat3((lfloat)(v.x), (lfloat)(v.y), (lfloat)(v.z)); }
+// The smallest of the lanes (a tree reduction of halves; no lane may be NaN).
+AW_FN float l_hmin(lfloat v) {
+#if AW_LANES == 16
+  float8 h8 = fmin(v.lo, v.hi);
+#else
+  float8 h8 = v;
+#endif
+  float4 h4 = fmin(h8.lo, h8.hi);
+  float2 h2 = fmin(h4.lo, h4.hi);
+  return fmin(h2.x, h2.y);
+}
+#endif
+// Component k (0, 1, 2: x, y, z) of each lane's vector, k per lane.
+AW_FN lfloat l3_get(lfloat3 v, lint k) { return L_SEL(k == 0, v.x, L_SEL(k == 1, v.y, v.z)); }
+// Double precision per lane, where the device has it (the host always does): the triangle
+// test's exact edge cases (bvh/intersect_triangle.h).
+#if !AW_DEVICE || defined(cl_khr_fp64)
+#define AW_HAVE_LDOUBLE 1
+#if AW_LANES == 1
+typedef double ldouble;
+#define L_TO_DOUBLE(x) ((double)(x))
+#define L_DOUBLE_TO_FLOAT(x) ((float)(x))
+#else
+typedef AW_LCAT(double, AW_LANES) ldouble;
+#define L_TO_DOUBLE(x) AW_LCAT(convert_double, AW_LANES)(x)
+#define L_DOUBLE_TO_FLOAT(x) AW_LCAT(convert_float, AW_LANES)(x)
+#endif
+#else
+#define AW_HAVE_LDOUBLE 0
+#endif
 // Three consecutive floats of a table entry per lane (a colour, a position): L_GATHER of each.
 #define L_GATHER3(base, i, field) \
   make_lfloat3(L_GATHER(float, base, i, field[0]), L_GATHER(float, base, i, field[1]), L_GATHER(float, base, i, field[2]))

@@ -8,23 +8,33 @@
 #include "integrator/ray_cast.h"
 #include "integrator/light_select.h"
 
-AW_FN float3 ps_shadow_origin(PathRef ps) { return make_float3(PS_F(ps, sh_ox), PS_F(ps, sh_oy), PS_F(ps, sh_oz)); }
-AW_FN float3 ps_shadow_dir(PathRef ps) { return make_float3(PS_F(ps, sh_dx), PS_F(ps, sh_dy), PS_F(ps, sh_dz)); }
+AW_FN lfloat3 ps_shadow_origin(PathRef ps) { return make_lfloat3(PS_LF(ps, sh_ox), PS_LF(ps, sh_oy), PS_LF(ps, sh_oz)); }
+AW_FN lfloat3 ps_shadow_dir(PathRef ps) { return make_lfloat3(PS_LF(ps, sh_dx), PS_LF(ps, sh_dy), PS_LF(ps, sh_dz)); }
 
-
+// On lanes (W > 1) the occlusion test is the lane traversal (bvh/traverse_lanes.h), as in
+// intersect_closest.h.
 AW_FN void intersect_shadow(PathRef ps, SceneRef sc, const RenderParams* rp) {
+#if AW_LANES == 1
   AW_KERNEL_ASSERT((PS_U(ps, flags) & AW_PATH_HAS_SHADOW) != 0u);
-  float3 o = ps_shadow_origin(ps), d = ps_shadow_dir(ps);
-  float tmax = PS_F(ps, sh_tmax);
+#endif
+  lfloat3 o = ps_shadow_origin(ps), d = ps_shadow_dir(ps);
+  lfloat tmax = PS_LF(ps, sh_tmax);
   // Cutout holes let shadow rays through: the ray caster does not report them (ray_cast.h).
-  int occluded = scene_occluded(sc, o, d, 0.0f, tmax);
-  if (!occluded) {
+#if AW_LANES == 1
+  lmask occluded = scene_occluded(sc, o, d, 0.0f, tmax);
+#else
+  lmask occluded = bvh_intersect_lanes(sc.nodes, sc.num_nodes, sc.tris, o, d, (lfloat)(0.0f), tmax, 1, PS_LIVE(ps)).prim >= 0;
+#endif
+  if (!L_ALL(occluded)) {
     // Lights occlude shadow rays aimed at other lights (not the one aimed at: sh_light).
-    float t = tmax;
-    occluded = scene_lights_intersect(sc, rp, o, d, 0.0f, &t, 0, (int)PS_U(ps, sh_light)) >= 0;
+    lfloat t = tmax;
+    occluded = occluded || scene_lights_intersect(sc, rp, o, d, (lfloat)(0.0f), &t, (lmask)(0),
+                                                  L_TO_INT(PS_LU(ps, sh_light))) >= 0;
   }
-  if (!occluded) ps_add_radiance(ps, make_float3(PS_F(ps, sh_r), PS_F(ps, sh_g), PS_F(ps, sh_b)));
-  PS_U(ps, flags) &= ~AW_PATH_HAS_SHADOW;
+  PathRef lit = ps;
+  PS_KEEP(lit, !occluded);
+  if (!L_ALL(occluded)) ps_add_radiance(lit, make_lfloat3(PS_LF(ps, sh_r), PS_LF(ps, sh_g), PS_LF(ps, sh_b)));
+  PS_SET_U(ps, flags, PS_LU(ps, flags) & ~AW_PATH_HAS_SHADOW);
 }
 
 #endif

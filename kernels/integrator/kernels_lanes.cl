@@ -7,12 +7,14 @@
 // vector types run at the full SIMD width on PoCL, which runs a work-item's scalar code one
 // path at a time (docs/performance.md, "Paths in explicit lanes").
 //
-// Only what is written on lanes is here: classify_hit, and the shading stages of the lobes of
+// Only what is written on lanes is here: the ray stages (the lane traversal of
+// bvh/traverse_lanes.h), classify_hit, and the shading stages of the lobes of
 // AW_LOBE_LIST_ON_LANES (material/lobe_list.h). The host (host/render/wavefront.cpp) builds
 // this program only on a CPU device and for a scene that needs nothing still one path per
 // call (textures and bump maps, the light tree, an environment map, AOVs, zsobol), uses its
 // classify_hit only for scenes that also need none of what that stage leaves out on lanes
-// (integrator/classify_hit.h: reflection, fog, instances), and launches a lane kernel only
+// (integrator/classify_hit.h: reflection, fog, instances), its ray stages only for scenes
+// without instances and cutouts (bvh/traverse_lanes.h), and launches a lane kernel only
 // for a dense launch; a queue launch runs kernels.cl's.
 #ifdef cl_khr_fp64
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
@@ -23,6 +25,8 @@
 #endif
 
 #include "integrator/classify_hit.h"
+#include "integrator/intersect_closest.h"
+#include "integrator/intersect_shadow.h"
 #include "integrator/shade_surface.h"
 #include "integrator/stage_kernel.h"
 #include "material/lobe_list.h"
@@ -90,4 +94,25 @@ AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
   if (!L_ANY(ps.live)) return;
   luint q = classify_hit(ps, AW_STAGE_SCENE, &rp);
   AW_APPEND_LANES(L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);
+}
+
+// The ray stages on lanes: W rays per work-item through bvh/traverse_lanes.h. The closest
+// hit's paths are those tagged RAY; a shadow ray's are those with AW_PATH_HAS_SHADOW (SHADOW
+// is not a tag: stage_kernel.h, stage_slot).
+AW_STAGE_KERNEL_SCALAR(kernel_intersect_closest_lanes) {
+  uint slot0 = get_global_id(0) * AW_LANES;
+  if (slot0 + AW_LANES > rp.pool_size) return;
+  PathRef ps = AW_STAGE_PATH(slot0);
+  ps.live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY);
+  if (!L_ANY(ps.live)) return;
+  intersect_closest(ps, AW_STAGE_SCENE, &rp);
+}
+
+AW_STAGE_KERNEL_SCALAR(kernel_intersect_shadow_lanes) {
+  uint slot0 = get_global_id(0) * AW_LANES;
+  if (slot0 + AW_LANES > rp.pool_size) return;
+  PathRef ps = AW_STAGE_PATH(slot0);
+  ps.live = (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;
+  if (!L_ANY(ps.live)) return;
+  intersect_shadow(ps, AW_STAGE_SCENE, &rp);
 }

@@ -55,10 +55,13 @@ AW_FN lfloat light_select_pmf(SceneRef sc, const RenderParams* rp, luint li, lfl
 }
 
 // The closest analytic light along a ray (lights_intersect's contract), through the tree's
-// boxes when there is one.
-AW_FN int scene_lights_intersect(SceneRef sc, const RenderParams* rp, float3 org, float3 dir, float t_min, float* t,
-                                 int camera_ray, int skip) {
+// boxes when there is one (one path per call: a lane program is built only for scenes
+// without the tree).
+AW_FN lint scene_lights_intersect(SceneRef sc, const RenderParams* rp, lfloat3 org, lfloat3 dir, lfloat t_min, lfloat* t,
+                                  lmask camera_ray, lint skip) {
+#if AW_LANES == 1
   if (light_tree_used(rp)) return light_tree_intersect(sc.light_tree, sc.lights, org, dir, t_min, t, camera_ray, skip);
+#endif
   return lights_intersect(sc.lights, rp->num_lights, org, dir, t_min, t, camera_ray, skip);
 }
 

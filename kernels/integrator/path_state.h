@@ -112,13 +112,13 @@ AW_FN lfloat3 ps_sp_unbumped_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, 
 AW_FN lfloat3 ps_sp_geo_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_gx), PS_LF(ps, sp_gy), PS_LF(ps, sp_gz)); }
 
 // Writes the closest hit of the extension ray (both intersectors end here).
-AW_FN void ps_set_hit(PathRef ps, float t, float u, float v, uint prim, uint inst, uint light) {
-  PS_F(ps, hit_t) = t;
-  PS_F(ps, hit_u) = u;
-  PS_F(ps, hit_v) = v;
-  PS_U(ps, hit_prim) = prim;
-  PS_U(ps, hit_inst) = inst;
-  PS_U(ps, hit_light) = light;
+AW_FN void ps_set_hit(PathRef ps, lfloat t, lfloat u, lfloat v, luint prim, luint inst, luint light) {
+  PS_SET_F(ps, hit_t, t);
+  PS_SET_F(ps, hit_u, u);
+  PS_SET_F(ps, hit_v, v);
+  PS_SET_U(ps, hit_prim, prim);
+  PS_SET_U(ps, hit_inst, inst);
+  PS_SET_U(ps, hit_light, light);
 }
 
 #endif

@@ -10,7 +10,9 @@
 #include "bvh/traverse.h"
 #include "integrator/scene_ref.h"
 
-#if AW_DEVICE
+#if AW_DEVICE && AW_LANES > 1
+// (A lane program's ray stages call the lane traversal, bvh/traverse_lanes.h, directly.)
+#elif AW_DEVICE
 AW_FN TriangleHit scene_intersect(SceneRef sc, float3 o, float3 d, float t_min, float t_max) {
   TextureScene ts = scene_texture_ref(sc);
   return bvh_intersect_cut(sc.nodes, sc.num_nodes, sc.tris, sc.insts, o, d, t_min, t_max, 0, AW_FEAT_CUTOUT ? &ts : 0);

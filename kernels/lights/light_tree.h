@@ -127,6 +127,7 @@ AW_FN int light_node_hit(const AW_GLOBAL LightTreeNode* nd, float3 o, float3 inv
 
 #define AW_LIGHT_TREE_STACK 64
 
+#if AW_LANES == 1  // (a lane program is built only for scenes without the tree)
 // lights_intersect (lights.h) through the tree's boxes: the same answer, the closest light
 // along the ray (skipping `skip`, and invisible lights for camera rays), for a scene whose
 // many lights would make the loop over all of them the cost of every ray.
@@ -163,5 +164,7 @@ AW_FN int light_tree_intersect(const AW_GLOBAL LightTreeNode* tree, const AW_GLO
   }
   return found;
 }
+
+#endif
 
 #endif

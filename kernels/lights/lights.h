@@ -422,60 +422,60 @@ AW_FN LightSample light_sample(LightL l, lfloat3 p, lfloat2 u) {
   return s;
 }
 
-// Distance along (org, dir) to area light `l` within (t_min, t_max), or -1.
-AW_FN float light_intersect(const AW_GLOBAL LightGpu* l, float3 org, float3 dir, float t_min, float t_max) {
-  if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return -1.0f;
+// Distance along (org, dir) to area light `l` within (t_min, t_max), or -1. On lanes: W rays
+// against one light.
+AW_FN lfloat light_intersect(const AW_GLOBAL LightGpu* l, lfloat3 org, lfloat3 dir, lfloat t_min, lfloat t_max) {
+  const lfloat none = (lfloat)(-1.0f);
+  if (AW_FEAT_LIGHT_POINT && l->type == AW_LIGHT_POINT) return none;
   // Lights at infinity are found by rays that escape the scene (classify_hit.h), triangle
   // lights as the geometry they are (classify_hit.h), not here.
   // (The switches are 0 or 1, so `|` is their "or"; `||` between constants makes clang warn,
   // -Wconstant-logical-operand, on every OpenCL compiler built on it: PoCL, Intel, NVIDIA.)
-  if ((AW_FEAT_LIGHT_SUN | AW_FEAT_ENV_MAP | AW_FEAT_LIGHT_MESH) && l->type >= AW_LIGHT_SUN) return -1.0f;
+  if ((AW_FEAT_LIGHT_SUN | AW_FEAT_ENV_MAP | AW_FEAT_LIGHT_MESH) && l->type >= AW_LIGHT_SUN) return none;
   if (AW_FEAT_LIGHT_SPHERE && l->type == AW_LIGHT_SPHERE) {
     // Geometric form of the quadratic, stable for far spheres: the discriminant is formed
     // from the squared distance to the ray (Haines et al. 2019, Ray Tracing Gems Ch. 7, Eq. 8).
-    float3 c = load_f3(l->p);
-    float3 f = org - c;
-    float b = -dot(f, dir);
-    float3 perp = f + b * dir;
+    lfloat3 f = l3_sub(org, l3_bcast(load_f3(l->p)));
+    lfloat b = -l3_dot(f, dir);
+    lfloat3 perp = l3_add(f, l3_scale(dir, b));
     float r2 = l->radius * l->radius;
-    float disc = r2 - dot(perp, perp);
-    if (disc < 0.0f) return -1.0f;
-    float sq = sqrt(disc);
-    float t0 = b - sq, t1 = b + sq;
-    if (t0 > t_min && t0 < t_max) return t0;
-    if (t1 > t_min && t1 < t_max) return t1;
-    return -1.0f;
+    lfloat disc = r2 - l3_dot(perp, perp);
+    lfloat sq = sqrt(disc);  // NaN where disc < 0: neither root below is then in range
+    lfloat t0 = b - sq, t1 = b + sq;
+    lfloat t = L_SEL(t0 > t_min && t0 < t_max, t0, L_SEL(t1 > t_min && t1 < t_max, t1, none));
+    return L_SEL(disc < 0.0f, none, t);
   }
-  float3 n = load_f3(l->n);
-  float denom = dot(n, dir);
-  if (fabs(denom) < 1e-12f) return -1.0f;
-  float3 p0 = load_f3(l->p);
-  float t = dot(n, p0 - org) / denom;
-  if (!(t > t_min && t < t_max)) return -1.0f;
-  float3 q = org + t * dir - p0;
+  lfloat3 n = l3_bcast(load_f3(l->n));
+  lfloat denom = l3_dot(n, dir);
+  lfloat3 p0 = l3_bcast(load_f3(l->p));
+  lfloat t = l3_dot(n, l3_sub(p0, org)) / denom;
+  lmask in = !(fabs(denom) < 1e-12f) && t > t_min && t < t_max;
+  if (!L_ANY(in)) return none;
+  lfloat3 q = l3_sub(l3_add(org, l3_scale(dir, t)), p0);
   if (AW_FEAT_LIGHT_QUAD && l->type == AW_LIGHT_QUAD) {
     // Parallelogram coordinates via cross products (edges need not be orthogonal).
-    float3 eu = load_f3(l->u), ev = load_f3(l->v);
-    float a = dot(cross(q, ev), n) / l->area;
-    float bb = dot(cross(eu, q), n) / l->area;
-    return (a >= 0.0f && a <= 1.0f && bb >= 0.0f && bb <= 1.0f) ? t : -1.0f;
+    lfloat3 eu = l3_bcast(load_f3(l->u)), ev = l3_bcast(load_f3(l->v));
+    lfloat a = l3_dot(l3_cross(q, ev), n) / l->area;
+    lfloat bb = l3_dot(l3_cross(eu, q), n) / l->area;
+    return L_SEL(in && a >= 0.0f && a <= 1.0f && bb >= 0.0f && bb <= 1.0f, t, none);
   }
-  return dot(q, q) <= l->radius * l->radius ? t : -1.0f;
+  return L_SEL(in && l3_dot(q, q) <= l->radius * l->radius, t, none);
 }
 
 // Closest area light along the ray, skipping `skip` (the light a shadow ray aims at) and, for
-// camera rays, lights marked invisible. Returns the light index or -1; *t is updated.
-AW_FN int lights_intersect(const AW_GLOBAL LightGpu* lights, uint num_lights, float3 org, float3 dir,
-                           float t_min, float* t, int camera_ray, int skip) {
-  int found = -1;
+// camera rays, lights marked invisible. Returns the light index or -1; *t is updated. On
+// lanes: per lane.
+AW_FN lint lights_intersect(const AW_GLOBAL LightGpu* lights, uint num_lights, lfloat3 org, lfloat3 dir,
+                            lfloat t_min, lfloat* t, lmask camera_ray, lint skip) {
+  lint found = (lint)(-1);
   for (uint i = 0; i < num_lights; ++i) {
-    if ((int)i == skip) continue;
-    if (camera_ray && !(lights[i].flags & AW_LIGHT_VISIBLE)) continue;
-    float th = light_intersect(&lights[i], org, dir, t_min, *t);
-    if (th > 0.0f) {
-      *t = th;
-      found = (int)i;
-    }
+    lmask consider = (lint)((int)i) != skip;
+    if (!(lights[i].flags & AW_LIGHT_VISIBLE)) consider = consider && !camera_ray;
+    if (!L_ANY(consider)) continue;
+    lfloat th = light_intersect(&lights[i], org, dir, t_min, *t);
+    lmask take = consider && th > 0.0f;
+    *t = L_SEL(take, th, *t);
+    found = L_SEL(take, (lint)((int)i), found);
   }
   return found;
 }

@@ -547,6 +547,9 @@ void BvhVsEmbree::check_scene(const TestScene& sc, size_t random_rays, size_t ai
   FlatBvh bvh = build_flat_bvh(*embree_, soup);
   EmbreeScene es(*embree_, soup);
   ClTracer tracer(*cl_, bvh, default_kernel_dir());
+  // The lane traversal (kernels/bvh/traverse_lanes.h): 16 rays per work-item, each lane
+  // finding what the one-ray traversal finds.
+  ClTracer lane_tracer(*cl_, bvh, default_kernel_dir(), 16);
   double t_setup = seconds_since(t0);
   RaySet rs = make_rays(sc, random_rays, aimed_rays, seed);
   const std::vector<RayIn>& rays = rs.rays;
@@ -565,19 +568,27 @@ void BvhVsEmbree::check_scene(const TestScene& sc, size_t random_rays, size_t ai
   std::vector<TriangleHit> hd = tracer.trace(rays, false, &t_cl_kernel);
   double t_cl = seconds_since(t0);
   ASSERT_EQ(hd.size(), n);
+  double t_lanes_kernel = 0.0;
+  std::vector<TriangleHit> hl = lane_tracer.trace(rays, false, &t_lanes_kernel);
+  ASSERT_EQ(hl.size(), n);
 
   std::printf("[%s] %zu triangles, %zu nodes, %zu leaves, depth %d; %zu rays (%zu random, %zu aimed at "
               "vertices/edges)\n"
-              "  setup %.2fs; closest hit: Embree %.2fs, C++ traversal %.2fs, OpenCL %.2fs (kernel %.2fs)\n",
+              "  setup %.2fs; closest hit: Embree %.2fs, C++ traversal %.2fs, OpenCL %.2fs (kernel %.2fs), "
+              "lanes kernel %.2fs\n",
               sc.name.c_str(), soup.indices.size(), bvh.nodes.size(), bvh.leaf_count, bvh.max_depth, n,
-              rs.random_count, n - rs.random_count, t_setup, t_embree, t_cpp, t_cl, t_cl_kernel);
+              rs.random_count, n - rs.random_count, t_setup, t_embree, t_cpp, t_cl, t_cl_kernel, t_lanes_kernel);
 
   struct Pair {
     const char* na;
     const char* nb;
     const std::vector<TriangleHit>* a;
     const std::vector<TriangleHit>* b;
-  } pairs[] = {{"Embree", "C++", &he, &hc}, {"Embree", "OpenCL", &he, &hd}, {"C++", "OpenCL", &hc, &hd}};
+  } pairs[] = {{"Embree", "C++", &he, &hc},
+               {"Embree", "OpenCL", &he, &hd},
+               {"C++", "OpenCL", &hc, &hd},
+               {"Embree", "lanes", &he, &hl},
+               {"OpenCL", "lanes", &hd, &hl}};
   for (const Pair& p : pairs) {
     for (int aimed = 0; aimed < 2; ++aimed) {
       const size_t begin = aimed ? rs.random_count : 0, end = aimed ? n : rs.random_count;
@@ -594,23 +605,43 @@ void BvhVsEmbree::check_scene(const TestScene& sc, size_t random_rays, size_t ai
     }
   }
 
+  // The lane traversal computes each lane's tests with the one-ray traversal's operations, so
+  // on the random rays it finds the same hit bit for bit. On the rays aimed at vertices and
+  // edges two triangles can be hit within the triangle test's rounding of each other, and which
+  // one a traversal reports depends on the order it meets them: those are the pairs' ties above.
+  size_t lane_diff = 0;
+  std::string lane_examples;
+  for (size_t i = 0; i < rs.random_count; ++i) {
+    const TriangleHit &a = hd[i], &b = hl[i];
+    if (a.prim == b.prim && (a.prim < 0 || (a.t == b.t && a.u == b.u && a.v == b.v))) continue;
+    ++lane_diff;
+    if (lane_examples.size() < 2000) lane_examples += describe_ray(soup, rays[i], a, b, "OpenCL", "lanes", i);
+  }
+  EXPECT_EQ(lane_diff, 0u) << "[" << sc.name << "] the lane traversal's closest hit of a random ray differs from the "
+                           << "one-ray traversal's:\n"
+                           << lane_examples;
+
   // --- watertightness and degenerate triangles ---------------------------------------------
-  size_t must = 0, miss_e = 0, miss_c = 0, miss_d = 0, degen_hits = 0;
+  size_t must = 0, miss_e = 0, miss_c = 0, miss_d = 0, miss_l = 0, degen_hits = 0;
   std::string crack_examples;
   for (size_t i = 0; i < n; ++i) {
-    for (const std::vector<TriangleHit>* h : {&he, &hc, &hd})
+    for (const std::vector<TriangleHit>* h : {&he, &hc, &hd, &hl})
       for (int id : sc.degenerate) degen_hits += (*h)[i].prim == id;
     if (!rs.must_hit[i]) continue;
     ++must;
     miss_e += he[i].prim < 0;
     miss_c += hc[i].prim < 0;
     miss_d += hd[i].prim < 0;
+    miss_l += hl[i].prim < 0;
     if ((hc[i].prim < 0 || hd[i].prim < 0) && crack_examples.size() < 2000)
       crack_examples += describe_ray(soup, rays[i], hc[i], hd[i], "C++", "OpenCL", i);
+    if (hl[i].prim < 0 && crack_examples.size() < 2000)
+      crack_examples += describe_ray(soup, rays[i], hc[i], hl[i], "C++", "lanes", i);
   }
-  std::printf("  must-hit rays %zu: misses Embree %zu, C++ %zu, OpenCL %zu; hits on degenerate triangles %zu\n", must,
-              miss_e, miss_c, miss_d, degen_hits);
-  EXPECT_EQ(miss_c + miss_d, 0u) << "[" << sc.name << "] rays through a closed/continuous surface missed it (a crack):\n"
+  std::printf("  must-hit rays %zu: misses Embree %zu, C++ %zu, OpenCL %zu, lanes %zu; hits on degenerate triangles "
+              "%zu\n",
+              must, miss_e, miss_c, miss_d, miss_l, degen_hits);
+  EXPECT_EQ(miss_c + miss_d + miss_l, 0u) << "[" << sc.name << "] rays through a closed/continuous surface missed it (a crack):\n"
                                  << crack_examples;
   EXPECT_EQ(degen_hits, 0u) << "[" << sc.name << "] a zero-area triangle was hit";
 
@@ -651,12 +682,13 @@ void BvhVsEmbree::check_scene(const TestScene& sc, size_t random_rays, size_t ai
   t0 = std::chrono::steady_clock::now();
   std::vector<TriangleHit> ad = tracer.trace(shadow, true);
   double ta_d = seconds_since(t0);
+  std::vector<TriangleHit> al = lane_tracer.trace(shadow, true);
   std::printf("  any hit: %zu shadow rays, Embree %.2fs, C++ %.2fs, OpenCL %.2fs\n", ns, ta_e, ta_c, ta_d);
 
-  for (int side = 0; side < 2; ++side) {
-    const std::vector<TriangleHit>& ours = side == 0 ? ac : ad;
-    const std::vector<TriangleHit>& our_closest = side == 0 ? hc : hd;
-    const char* name = side == 0 ? "C++" : "OpenCL";
+  for (int side = 0; side < 3; ++side) {
+    const std::vector<TriangleHit>& ours = side == 0 ? ac : side == 1 ? ad : al;
+    const std::vector<TriangleHit>& our_closest = side == 0 ? hc : side == 1 ? hd : hl;
+    const char* name = side == 0 ? "C++" : side == 1 ? "OpenCL" : "lanes";
     size_t occluded = 0, wrong = 0, bad_t = 0;
     size_t edge[2] = {0, 0}, count[2] = {0, 0};  // [random, aimed]
     std::string examples;
