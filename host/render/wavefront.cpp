@@ -44,6 +44,11 @@ namespace {
 constexpr uint32_t kWorkGroup = 256;
 constexpr uint32_t kLanes = 16;  // paths per work-item of the lane program (kernels_lanes.cl, -DAW_LANES)
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
+// regenerate's lane form runs over the whole pool whatever its count, at a cost that does not
+// depend on it (Cornell box, pool 262144: 4.4 ms on Intel's runtime, 4.0 ms on PoCL), while
+// its queue form costs per path (52 and 57 ns): the lane form pays from about a third of the
+// pool (docs/performance.md, "regenerate on lanes").
+constexpr double kRegenDenseFraction = 1.0 / 3.0;
 static_assert(kWorkGroup >= AW_Q_COUNT, "wg_append keeps one local counter per queue in the work-group");
 
 size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWorkGroup; }
@@ -318,6 +323,10 @@ class Wavefront {
   struct LaneTraversalLimit {
     size_t closest, shadow;
   };
+  static bool prefaults_state(const DeviceInfo& d) {
+    return d.type == "CPU" && d.platform.find("Portable Computing Language") != std::string::npos;
+  }
+
   static LaneTraversalLimit lane_traversal_limit(const DeviceInfo& d) {
     if (d.platform.find("Intel") != std::string::npos) return {8192, 1024};
     return {32, 32};
@@ -374,7 +383,7 @@ class Wavefront {
     if (shadow_why.empty() && opts_.lane_traversal < 0 && primitives > limit.shadow) shadow_why = too_many(limit.shadow);
     closest_on_lanes_ = rays_why.empty();
     shadow_on_lanes_ = shadow_why.empty();
-    st_.lanes = std::to_string(kLanes) + " paths per work-item:";
+    st_.lanes = std::to_string(kLanes) + " paths per work-item: regenerate";
     if (closest_on_lanes_) st_.lanes += " intersect_closest";
     if (classify_on_lanes_) st_.lanes += " classify_hit";
 #define AW_LANES_STAGE_NAME(ID, name, FEATURE, TRAITS) st_.lanes += " shade_" #name;
@@ -411,6 +420,15 @@ class Wavefront {
     b.sf = rt_.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool_ * 4);
     b.su = rt_.buffer("path state (uint fields)", size_t(AW_SU_COUNT) * pool_ * 4);
     st_.state_bytes = size_t(AW_SF_COUNT + AW_SU_COUNT) * pool_ * 4;
+    // On PoCL the path state is written once in order here, at setup: the stages' first,
+    // scattered writes from every thread otherwise fault it in page by page inside the timed
+    // render (Cornell box, 256x256, 32 spp, pool 2^18, three rounds: 47,400 minor faults
+    // against 37,900, total 1.65 -> 1.54 s; docs/performance.md, "regenerate on lanes"). On
+    // Intel's runtime the same fill cost 70 ms of setup and saved nothing, and it is not done.
+    if (prefaults_state(rt_.info())) {
+      rt_.queue().enqueueFillBuffer(b.sf, 0.0f, 0, size_t(AW_SF_COUNT) * pool_ * 4);
+      rt_.queue().enqueueFillBuffer(b.su, 0u, 0, size_t(AW_SU_COUNT) * pool_ * 4);
+    }
     // Lobe splitting's first-hit snapshots (integrator/split.h): only when the scene splits.
     const bool splits = rp_.split_spp != 0u;
     b.snap_f = rt_.buffer("lobe-split snapshots (float fields)", splits ? size_t(AW_SNAP_F_COUNT) * pool_ * 4 : 4);
@@ -501,7 +519,14 @@ class Wavefront {
       stages_.push_back(std::move(s));
       return stages_.size() - 1;
     };
-    regen_ = add("regenerate", AW_Q_FREE, false, true, true);
+    // regenerate's queue launch takes the first `take` entries of the FREE queue; its lane form
+    // (a dense launch) takes every FREE-tagged slot of the pool instead (kernels_lanes.cl).
+    regen_ = add("regenerate", AW_Q_FREE, bool(lanes_program_()), true, true);
+    if (lanes_program_()) {
+      Stage& s = stages_[regen_];
+      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_regenerate_lanes");
+      bind_stage_args(s.lanes_kernel, buf_);
+    }
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
     if (closest_on_lanes_) {
       Stage& s = stages_[isect_];
@@ -593,9 +618,14 @@ class Wavefront {
       throw cl::Error(CL_OUT_OF_RESOURCES, "clEnqueueNDRangeKernel");
     }
     auto t0 = Clock::now();
-    if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
-    const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction : kDenseFraction;
+    const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction
+                                  : &s == &stages_[regen_] ? kRegenDenseFraction
+                                                           : kDenseFraction;
     bool dense = s.dense_ok && double(n) >= dense_fraction * double(pool_);
+    // The lane regenerate hands out its jobs from the FREE counter, from 0 (kernels_lanes.cl);
+    // the FREE queue's entries are not read, and run_batch drops them after this launch.
+    if (dense && s.lanes_kernel() && &s == &stages_[regen_]) cnt_[AW_Q_FREE] = 0;
+    if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
       // The lane form: pool / kLanes work-items of kLanes consecutive slots each.
       set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);

@@ -8,44 +8,50 @@
 #include "integrator/path_state.h"
 #include "types/scene.h"
 
-AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, uint job) {
+// Written on lanes (common/lanes.h): at W = 1 one path, as the host's scalar path and the
+// queue launch run it; at W > 1 the W consecutive slots of a lane kernel (kernels_lanes.cl,
+// kernel_regenerate_lanes), each live lane with its own job.
+AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, luint job) {
   uint npix = rp->win_w * rp->win_h;
   // Batch-local job -> (film pixel, sample), see RenderParams. (batch_pixel < npix, so the sum
   // cannot overflow for any batch that fits in memory.) The film pixel is one of the window's;
   // the path carries the frame's pixel index, which the sampler sees, so a window's pixels
   // get exactly the random numbers they get in the whole frame.
-  uint k = rp->batch_pixel + job;
-  uint film_px = k % npix;
-  uint sample = rp->batch_sample + k / npix;
-  uint px = rp->win_x0 + film_px % rp->win_w, py = rp->win_y0 + film_px / rp->win_w;
-  uint pixel = py * rp->width + px;
+  luint k = rp->batch_pixel + job;
+  luint film_px = k % npix;
+  luint sample = rp->batch_sample + k / npix;
+  luint px = rp->win_x0 + film_px % rp->win_w, py = rp->win_y0 + film_px / rp->win_w;
+  luint pixel = py * rp->width + px;
 
-  float2 j = rng_2d(rp_sampler(rp), pixel, sample, 0u, AW_DIM_CAMERA);
-  float sx = (2.0f * ((float)px + j.x) / (float)rp->width - 1.0f) * rp->tan_half_fov * rp->aspect;
-  float sy = (1.0f - 2.0f * ((float)py + j.y) / (float)rp->height) * rp->tan_half_fov;
-  float3 d = normalize(load_f3p(rp->cam_forward) + sx * load_f3p(rp->cam_right) + sy * load_f3p(rp->cam_up));
+  lfloat2 j = rng_2d(rp_sampler(rp), pixel, sample, (luint)(0u), AW_DIM_CAMERA);
+  lfloat sx = (2.0f * (L_TO_FLOAT(px) + j.x) / (float)rp->width - 1.0f) * rp->tan_half_fov * rp->aspect;
+  lfloat sy = (1.0f - 2.0f * (L_TO_FLOAT(py) + j.y) / (float)rp->height) * rp->tan_half_fov;
+  lfloat3 d = l3_normalize(l3_add(l3_add(l3_bcast(load_f3p(rp->cam_forward)), l3_scale(l3_bcast(load_f3p(rp->cam_right)), sx)),
+                                  l3_scale(l3_bcast(load_f3p(rp->cam_up)), sy)));
 
-  ps_set_ray(ps, load_f3p(rp->cam_origin), d);
-  ps_set_throughput(ps, make_float3(1.0f, 1.0f, 1.0f));
-  PS_F(ps, rad_r) = 0.0f;
-  PS_F(ps, rad_g) = 0.0f;
-  PS_F(ps, rad_b) = 0.0f;
-  PS_F(ps, bsdf_pdf) = 0.0f;
-  PS_U(ps, job) = job;
-  PS_U(ps, pixel) = pixel;
-  PS_U(ps, sample) = sample;
-  PS_U(ps, bounce) = 0u;
-  PS_U(ps, flags) = 0u;
-  PS_F(ps, emit_scale) = 1.0f;
-  PS_F(ps, eta_scale) = 1.0f;
-  PS_U(ps, depths) = 0u;
-  PS_U(ps, medium) = AW_NONE;  // cameras start outside every object
+  ps_set_ray(ps, l3_bcast(load_f3p(rp->cam_origin)), d);
+  ps_set_throughput(ps, l3_splat((lfloat)(1.0f)));
+  PS_SET_F(ps, rad_r, (lfloat)(0.0f));
+  PS_SET_F(ps, rad_g, (lfloat)(0.0f));
+  PS_SET_F(ps, rad_b, (lfloat)(0.0f));
+  PS_SET_F(ps, bsdf_pdf, (lfloat)(0.0f));
+  PS_SET_U(ps, job, job);
+  PS_SET_U(ps, pixel, pixel);
+  PS_SET_U(ps, sample, sample);
+  PS_SET_U(ps, bounce, (luint)(0u));
+  PS_SET_U(ps, flags, (luint)(0u));
+  PS_SET_F(ps, emit_scale, (lfloat)(1.0f));
+  PS_SET_F(ps, eta_scale, (lfloat)(1.0f));
+  PS_SET_U(ps, depths, (luint)(0u));
+  PS_SET_U(ps, medium, (luint)(AW_NONE));  // cameras start outside every object
   // The ray cone of a pixel: zero width at the pinhole, the pixel's angle as its spread
   // (Akenine-Möller et al. 2019, Ray Tracing Gems ch. 20, Sec. 20.3.4: gamma_0 from the
   // vertical field of view and the image height).
-  PS_F(ps, cone_w) = 0.0f;
-  PS_F(ps, cone_s) = 2.0f * rp->tan_half_fov / (float)rp->height;
-  aov_begin(ps, rp);
+  PS_SET_F(ps, cone_w, (lfloat)(0.0f));
+  PS_SET_F(ps, cone_s, (lfloat)(2.0f * rp->tan_half_fov / (float)rp->height));
+#if AW_LANES == 1
+  aov_begin(ps, rp);  // the lane program is built only for renders without AOVs
+#endif
 }
 
 #endif

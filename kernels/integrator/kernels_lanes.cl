@@ -7,7 +7,7 @@
 // vector types run at the full SIMD width on PoCL, which runs a work-item's scalar code one
 // path at a time (docs/performance.md, "Paths in explicit lanes").
 //
-// Only what is written on lanes is here: the ray stages (the lane traversal of
+// Only what is written on lanes is here: regenerate, the ray stages (the lane traversal of
 // bvh/traverse_lanes.h), classify_hit, and the shading stages of the lobes of
 // AW_LOBE_LIST_ON_LANES (material/lobe_list.h). The host (host/render/wavefront.cpp) builds
 // this program only on a CPU device and for a scene that needs nothing still one path per
@@ -25,6 +25,7 @@
 #endif
 
 #include "integrator/classify_hit.h"
+#include "integrator/generate_camera_ray.h"
 #include "integrator/intersect_closest.h"
 #include "integrator/intersect_shadow.h"
 #include "integrator/shade_surface.h"
@@ -65,6 +66,36 @@ static inline void append_lanes(__global uint* counters, __global uint* queues, 
   L_STORE(L_SEL(tagged, q, L_LOAD(tags + slot0, 0)), tags + slot0, 0);
 }
 #define AW_APPEND_LANES(q, slot0) append_lanes(counters, queues, tags, rp.pool_size, (q), (slot0))
+
+// regenerate on lanes: the FREE slots (tag FREE) of a dense launch over the pool. A
+// work-item's free lanes take the launch's next jobs in lane order, by one atomic per
+// work-item on the FREE counter, which the host zeroes for this launch (wavefront.cpp,
+// launch): the jobs job_start .. job_start + count - 1, each once; lanes past the last job stay
+// FREE. Which slot runs which job depends on the order in which the work-items reach the
+// atomic, and nothing that is computed does: a path's random numbers follow its (pixel,
+// sample), and its value lands in samples[job]. Why: the queue launch (kernels.cl) writes the
+// ~20 state words of a path in whatever slot order accumulate left in the FREE queue, a cache
+// line per word per path; here 16 paths share each line.
+AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
+  uint slot0 = get_global_id(0) * AW_LANES;
+  if (slot0 + AW_LANES > rp.pool_size) return;
+  lmask is_free = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_FREE);
+  if (!L_ANY(is_free)) return;
+  uint one[AW_LANES], rank[AW_LANES];
+  L_STORE(L_SEL(is_free, (luint)(1u), (luint)(0u)), one, 0);
+  uint n = 0u;
+  for (uint k = 0u; k < AW_LANES; ++k) {
+    rank[k] = n;
+    n += one[k];
+  }
+  uint base = atomic_add(&counters[AW_Q_FREE], n);
+  if (base >= count) return;
+  luint job = (luint)(base) + L_LOAD(rank, 0);
+  PathRef ps = AW_STAGE_PATH(slot0);
+  ps.live = is_free && job < (luint)(count);
+  generate_camera_ray(ps, &rp, (luint)(job_start) + job);
+  AW_APPEND_LANES(L_SEL(ps.live, (luint)(AW_Q_RAY), (luint)(AW_Q_COUNT)), slot0);
+}
 
 // One shading kernel per lobe on lanes: kernel_shade_<name>_lanes, shade_surface on W paths.
 // Launched over pool / W work-items (padded to the group); `count` and `dense` are not read.

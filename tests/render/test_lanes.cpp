@@ -35,9 +35,9 @@ TEST(Lanes, SameFilmWithAndWithoutLanes) {
     double dense_fraction;
     const char* lanes;  // the stats' account of the stages on lanes
   };
-  const char* all = "16 paths per work-item: intersect_closest classify_hit shade_diffuse intersect_shadow";
+  const char* all = "16 paths per work-item: regenerate intersect_closest classify_hit shade_diffuse intersect_shadow";
   const char* reflective =
-      "16 paths per work-item: intersect_closest shade_diffuse intersect_shadow (classify_hit one path per work-item: "
+      "16 paths per work-item: regenerate intersect_closest shade_diffuse intersect_shadow (classify_hit one path per work-item: "
       "the scene needs reflection)";
   const std::vector<std::string> small = {"render.width=96", "render.height=64", "render.spp=8"};
   const Case cases[] = {{"scenes/cornell.json", {}, 0.0, all},
@@ -66,6 +66,29 @@ TEST(Lanes, SameFilmWithAndWithoutLanes) {
   }
 }
 
+// regenerate on lanes hands its jobs out by an atomic per work-item (kernels_lanes.cl): a part of
+// a frame (a 13 x 7 window off the origin, samples 3 to 9), so that job -> (pixel, sample) wraps
+// at a window that is no multiple of 16 and starts off the origin, in batches of 37 jobs, which
+// end inside a work-item's lanes and leave most of the pool (one group, 256 slots) free: its
+// film is the one-path kernels'.
+TEST(Lanes, RegenerateOnLanesKeepsEveryJobOnce) {
+  aw::Scene scene = aw::load_scene(aw_test::source_path("scenes/cornell.json"),
+                                   {"render.width=40", "render.height=24", "render.spp=9"});
+  aw::RenderOptions on = aw_test::quiet_options();
+  on.window = aw::PixelBounds{5, 18, 9, 16};
+  on.sample_start = 3;
+  on.pool_size = 256;
+  on.max_batch = 37;
+  on.dense_fraction = 0.0;  // every launch of every stage on lanes
+  aw::RenderOptions off = on;
+  off.lanes = false;
+  aw::RenderResult a = aw::render_wavefront(scene, on), b = aw::render_wavefront(scene, off);
+  EXPECT_NE(a.stats.lanes.find("regenerate"), std::string::npos) << a.stats.lanes;
+  EXPECT_EQ(a.stats.samples, 13u * 7u * 6u);
+  EXPECT_EQ(b.stats.samples, 13u * 7u * 6u);
+  EXPECT_EQ(differing_words(a, b), 0u);
+}
+
 // The ray stages on lanes by default only where the lane traversal was measured to pay: not for
 // 24578 triangles on any device (wavefront.cpp, lane_traversal_limit), nor when turned off;
 // the film is the same either way.
@@ -80,14 +103,14 @@ TEST(Lanes, RayStagesOnLanesOnlyWhereTheyPay) {
       << a.stats.lanes;
   opts.lane_traversal = 1;
   aw::RenderResult b = aw::render_wavefront(knot, opts);
-  EXPECT_EQ(b.stats.lanes, "16 paths per work-item: intersect_closest classify_hit shade_diffuse intersect_shadow");
+  EXPECT_EQ(b.stats.lanes, "16 paths per work-item: regenerate intersect_closest classify_hit shade_diffuse intersect_shadow");
   EXPECT_EQ(differing_words(a, b), 0u);
   aw::Scene cornell = aw::load_scene(aw_test::source_path("scenes/cornell.json"),
                                      {"render.width=16", "render.height=16", "render.spp=1"});
   opts.lane_traversal = 0;
   aw::RenderResult c = aw::render_wavefront(cornell, opts);
   EXPECT_EQ(c.stats.lanes,
-            "16 paths per work-item: classify_hit shade_diffuse (the ray stages one path per work-item: "
+            "16 paths per work-item: regenerate classify_hit shade_diffuse (the ray stages one path per work-item: "
             "--lane-traversal off)");
 }
 
