@@ -80,7 +80,8 @@ class Tools:
 
     def render(self, scene, name, spp, width, height, seed=0, defines=(), scalar=False, generic=False,
                device=None, pocl_cache=None, out_dir=None, extra_args=()):
-        """One archwave render; returns its stats (from --stats-json), EXR path and times."""
+        """One archwave render; returns its stats (from --stats-json), EXR path and times. `device`:
+        None for the suite's (--device), "" for none (archwave renders on the device it picks)."""
         self.count += 1
         stem = os.path.join(out_dir or self.work, name)
         argv = [self.archwave, scene, "-o", stem + ".exr", "--stats-json", stem + ".json", "-q", "--no-progress",
@@ -89,7 +90,7 @@ class Tools:
             argv += ["-D", d]
         if scalar:
             argv.append("--scalar")
-        else:
+        elif device != "":  # "": the CLI's own choice (the fastest device it measured)
             argv += ["--device", str(self.device if device is None else device)]
         if generic:
             argv.append("--generic-kernels")

@@ -16,6 +16,7 @@ for section in "Machine and run" "Sample-count sweeps" "Knob sweeps at equal tim
                "Kernel specialisation" "Scaling" "Devices" "Lights, environment and AO" "The race"; do
   grep -q "^## $section" "$report" || { echo "report.md lacks the section '$section'" >&2; exit 1; }
 done
+grep -q "^- Issue 12" "$report" || { echo "report.md lacks the race's samples/s line (issue 12)" >&2; exit 1; }
 grep -q "^### Dense launches vs queue launches" "$report" || { echo "report.md lacks the dense-launch table" >&2; exit 1; }
 plots=$(grep -o '([a-z_]*\.png)' "$report" | tr -d '()' | sort -u)
 [ "$(echo "$plots" | wc -w)" -ge 6 ] || { echo "report.md links too few plots: $plots" >&2; exit 1; }
