@@ -618,13 +618,14 @@ class Wavefront {
       throw cl::Error(CL_OUT_OF_RESOURCES, "clEnqueueNDRangeKernel");
     }
     auto t0 = Clock::now();
+    const bool regen = &s == &stages_[regen_];
     const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction
-                                  : &s == &stages_[regen_] ? kRegenDenseFraction
-                                                           : kDenseFraction;
+                                  : regen                     ? kRegenDenseFraction
+                                                              : kDenseFraction;
     bool dense = s.dense_ok && double(n) >= dense_fraction * double(pool_);
     // The lane regenerate hands out its jobs from the FREE counter, from 0 (kernels_lanes.cl);
     // the FREE queue's entries are not read, and run_batch drops them after this launch.
-    if (dense && s.lanes_kernel() && &s == &stages_[regen_]) cnt_[AW_Q_FREE] = 0;
+    if (dense && s.lanes_kernel() && regen) cnt_[AW_Q_FREE] = 0;
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
       // The lane form: pool / kLanes work-items of kLanes consecutive slots each.

@@ -67,6 +67,17 @@ static inline void append_lanes(__global uint* counters, __global uint* queues, 
 }
 #define AW_APPEND_LANES(q, slot0) append_lanes(counters, queues, tags, rp.pool_size, (q), (slot0))
 
+// What every lane kernel starts with: its block of W slots (slot0, ps) and, as ps.live, the
+// lanes that are the stage's paths (`lanes`, an expression that may read slot0 and ps); it
+// returns when the block lies past the pool or has no such lane. `lanes` may read any state
+// field: path_ref_make leaves all W lanes live until then.
+#define AW_LANES_BLOCK(lanes)                           \
+  uint slot0 = get_global_id(0) * AW_LANES;             \
+  if (slot0 + AW_LANES > rp.pool_size) return;          \
+  PathRef ps = AW_STAGE_PATH(slot0);                    \
+  ps.live = (lanes);                                    \
+  if (!L_ANY(ps.live)) return
+
 // regenerate on lanes: the FREE slots (tag FREE) of a dense launch over the pool. A
 // work-item's free lanes take the launch's next jobs in lane order, by one atomic per
 // work-item on the FREE counter, which the host zeroes for this launch (wavefront.cpp,
@@ -77,12 +88,9 @@ static inline void append_lanes(__global uint* counters, __global uint* queues, 
 // ~20 state words of a path in whatever slot order accumulate left in the FREE queue, a cache
 // line per word per path; here 16 paths share each line.
 AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
-  uint slot0 = get_global_id(0) * AW_LANES;
-  if (slot0 + AW_LANES > rp.pool_size) return;
-  lmask is_free = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_FREE);
-  if (!L_ANY(is_free)) return;
+  AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_FREE));
   uint one[AW_LANES], rank[AW_LANES];
-  L_STORE(L_SEL(is_free, (luint)(1u), (luint)(0u)), one, 0);
+  L_STORE(L_SEL(ps.live, (luint)(1u), (luint)(0u)), one, 0);
   uint n = 0u;
   for (uint k = 0u; k < AW_LANES; ++k) {
     rank[k] = n;
@@ -91,8 +99,7 @@ AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
   uint base = atomic_add(&counters[AW_Q_FREE], n);
   if (base >= count) return;
   luint job = (luint)(base) + L_LOAD(rank, 0);
-  PathRef ps = AW_STAGE_PATH(slot0);
-  ps.live = is_free && job < (luint)(count);
+  ps.live = ps.live && job < (luint)(count);
   generate_camera_ray(ps, &rp, (luint)(job_start) + job);
   AW_APPEND_LANES(L_SEL(ps.live, (luint)(AW_Q_RAY), (luint)(AW_Q_COUNT)), slot0);
 }
@@ -103,11 +110,8 @@ AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
 // vectorisation; the runtime's own, across work-items, would gather 16 blocks per vector.
 #define AW_SHADE_LANES_KERNEL(ID, name, FEATURE, TRAITS)                                        \
   AW_STAGE_KERNEL_SCALAR(kernel_shade_##name##_lanes) {                                         \
-    uint slot0 = get_global_id(0) * AW_LANES;                                                   \
-    if (!(AW_FEAT_##FEATURE && slot0 + AW_LANES <= rp.pool_size)) return;                       \
-    PathRef ps = AW_STAGE_PATH(slot0);                                                          \
-    ps.live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_LOBE + AW_LID_##ID);                       \
-    if (!L_ANY(ps.live)) return;                                                                \
+    if (!AW_FEAT_##FEATURE) return;                                                             \
+    AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_LOBE + AW_LID_##ID));                 \
     luint q = shade_surface(ps, AW_STAGE_SCENE, &rp, (uint)AW_LID_##ID);                        \
     lmask shadow = ps.live && (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;                    \
     AW_APPEND_LANES(L_SEL(shadow, (luint)(AW_Q_SHADOW), (luint)(AW_Q_COUNT)), slot0);           \
@@ -118,11 +122,7 @@ AW_LOBE_LIST_ON_LANES(AW_SHADE_LANES_KERNEL)
 
 // classify_hit on lanes: the paths whose ray was traced (tag RAY), W per work-item.
 AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
-  uint slot0 = get_global_id(0) * AW_LANES;
-  if (slot0 + AW_LANES > rp.pool_size) return;
-  PathRef ps = AW_STAGE_PATH(slot0);
-  ps.live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY);
-  if (!L_ANY(ps.live)) return;
+  AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY));
   luint q = classify_hit(ps, AW_STAGE_SCENE, &rp);
   AW_APPEND_LANES(L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);
 }
@@ -131,19 +131,11 @@ AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
 // hit's paths are those tagged RAY; a shadow ray's are those with AW_PATH_HAS_SHADOW (SHADOW
 // is not a tag: stage_kernel.h, stage_slot).
 AW_STAGE_KERNEL_SCALAR(kernel_intersect_closest_lanes) {
-  uint slot0 = get_global_id(0) * AW_LANES;
-  if (slot0 + AW_LANES > rp.pool_size) return;
-  PathRef ps = AW_STAGE_PATH(slot0);
-  ps.live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY);
-  if (!L_ANY(ps.live)) return;
+  AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY));
   intersect_closest(ps, AW_STAGE_SCENE, &rp);
 }
 
 AW_STAGE_KERNEL_SCALAR(kernel_intersect_shadow_lanes) {
-  uint slot0 = get_global_id(0) * AW_LANES;
-  if (slot0 + AW_LANES > rp.pool_size) return;
-  PathRef ps = AW_STAGE_PATH(slot0);
-  ps.live = (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;
-  if (!L_ANY(ps.live)) return;
+  AW_LANES_BLOCK((PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u);
   intersect_shadow(ps, AW_STAGE_SCENE, &rp);
 }
