@@ -42,7 +42,11 @@ namespace {
 // stages at 64 (accumulate: 0.24 s -> 0.07 s for 2.6M paths on the Cornell box); the heavy
 // stages do not care.
 constexpr uint32_t kWorkGroup = 256;
-constexpr uint32_t kLanes = 16;  // paths per work-item of the lane program (kernels_lanes.cl, -DAW_LANES)
+constexpr uint32_t kLanes = 16;  // paths per vector of the lane program (kernels_lanes.cl, -DAW_LANES)
+// Blocks of kLanes slots per work-item of the lane program (kernels_lanes.cl, -DAW_LANE_BLOCKS):
+// its appends are one atomic per queue per work-item, and four blocks share them.
+constexpr uint32_t kLaneBlocks = 4;
+static_assert(kWorkGroup % (kLanes * kLaneBlocks) == 0, "the pool, a multiple of the group, is whole work-items of the lane program");
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 // regenerate's lane form runs over the whole pool whatever its count, at a cost that does not
 // depend on it (Cornell box, pool 262144: 4.4 ms on Intel's runtime, 4.0 ms on PoCL), while
@@ -358,7 +362,7 @@ class Wavefront {
       return;
     }
     std::string src = assemble_kernel_source("integrator/kernels_lanes.cl", opts_.kernel_dir);
-    lanes_program_ = rt_.build(src, options + " -DAW_LANES=" + std::to_string(kLanes), &st_.compile_seconds);
+    lanes_program_ = rt_.build(src, options + " -DAW_LANES=" + std::to_string(kLanes) + " -DAW_LANE_BLOCKS=" + std::to_string(kLaneBlocks), &st_.compile_seconds);
     // classify_hit on lanes leaves out more (kernels/integrator/classify_hit.h): the reflection
     // lobes' sampled split, fog, instances.
     std::string classify_why;
@@ -628,9 +632,9 @@ class Wavefront {
     if (dense && s.lanes_kernel() && regen) cnt_[AW_Q_FREE] = 0;
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
-      // The lane form: pool / kLanes work-items of kLanes consecutive slots each.
+      // The lane form: pool / (kLanes kLaneBlocks) work-items of that many consecutive slots each.
       set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);
-      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / kLanes)),
+      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / (kLanes * kLaneBlocks))),
                                        cl::NDRange(kWorkGroup));
     } else {
       set_launch_args(s, uint32_t(n), dense, job_start);

@@ -32,54 +32,86 @@
 #include "integrator/stage_kernel.h"
 #include "material/lobe_list.h"
 
-// The appends of a work-item's W paths: lane k goes to queue q.sk (none when AW_Q_COUNT),
-// slot slot0 + k. Aggregated per work-item, not per work-group as wg_append
-// (stage_kernel.h): one global atomic per queue its lanes name, so at most W paths per atomic
-// and usually several. As a histogram: count the lanes per queue, one atomic per queue that
-// has any, then one pass over the lanes writing each where its queue's cursor is; the tags
-// are one masked vector store. Within a queue the lanes keep their order, so the queues are
-// the same as the earlier nested loops' (queue by queue, lane by lane) wrote.
+// A work-item runs AW_LANE_BLOCKS blocks of W consecutive slots, one after the other, and
+// appends their paths to the queues at once. Why: an append is one atomic per queue its lanes
+// name on a counter that both cores' work-items hit; one block per work-item paid 9% of the
+// lane program's time there (perf on Intel's runtime, Cornell box: 16% of shade_diffuse, 12%
+// of classify_hit, two thirds of regenerate in the instruction after each `lock xadd`, the
+// counters' cache line moving between the cores); docs/performance.md, "Appends per four
+// blocks". 4 blocks: 64 paths per work-item, pool / 64 work-items (4,096 at the CPU default).
+#ifndef AW_LANE_BLOCKS
+#define AW_LANE_BLOCKS 4
+#endif
+#define AW_LANE_SPAN (AW_LANES * AW_LANE_BLOCKS)
+
+// The appends of a work-item's blocks: lane k of block b goes to queue q[b * W + k] (none
+// when AW_Q_COUNT), slot slot_first + b * W + k. Recorded per block (appends_record), written
+// at the end (appends_flush) with one global atomic per queue that any of its lanes names, so
+// at most AW_LANE_SPAN paths per atomic and usually several. As a histogram: count the lanes
+// per queue, one atomic per queue that has any, then one pass over the lanes writing each
+// where its queue's cursor is. Within a queue the lanes keep their slot order.
 //
-// No barrier: a lane kernel with wg_append's barriers corrupted paths when PoCL 3.1 ran
-// work-groups on two threads, and was right on one (Cornell box, 128x128; with the lanes'
-// queues in local memory too), and without barriers it is right and deterministic. Where
-// inside PoCL it goes wrong was not isolated; what differs from the one-path kernels is the
-// size of what each work-item holds around the barriers (PoCL keeps a work-item's values
-// that live across a barrier in context arrays of the work-group function), 16 lanes of
-// every value.
-static inline void append_lanes(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
-                                luint q, uint slot0) {
+// No barrier (no aggregation per work-group, as wg_append in stage_kernel.h does): a lane
+// kernel with wg_append's barriers corrupted paths when PoCL 3.1 ran work-groups on two
+// threads, and was right on one (Cornell box, 128x128; with the lanes' queues in local memory
+// too), and without barriers it is right and deterministic. Where inside PoCL it goes wrong
+// was not isolated; what differs from the one-path kernels is the size of what each
+// work-item holds around the barriers (PoCL keeps a work-item's values that live across a
+// barrier in context arrays of the work-group function), 16 lanes of every value.
+typedef struct {
+  uint q[AW_LANE_SPAN];
+} LaneAppends;
+
+static inline void appends_clear(LaneAppends* a) {
+  for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) L_STORE((luint)(AW_Q_COUNT), a->q, b);
+}
+
+// Block b's lanes to queue q (lanes with q = AW_Q_COUNT to none), and their tags to q as one
+// masked vector store, except for SHADOW, which is not a tag (stage_kernel.h, stage_slot).
+static inline void appends_record(LaneAppends* a, __global uint* tags, uint b, uint slot0, luint q) {
   lmask listed = q < (luint)(AW_Q_COUNT);
   if (!L_ANY(listed)) return;
-  uint qk[AW_LANES];
-  L_STORE(L_SEL(listed, q, (luint)(AW_Q_COUNT)), qk, 0);
-  uint at[AW_Q_COUNT + 1];  // per queue: lanes, then the next free entry; [AW_Q_COUNT]: none
-  for (uint i = 0u; i <= (uint)AW_Q_COUNT; ++i) at[i] = 0u;
-  for (uint k = 0u; k < AW_LANES; ++k) ++at[qk[k]];
-  for (uint i = 0u; i < (uint)AW_Q_COUNT; ++i)
-    if (at[i] != 0u) at[i] = i * pool + atomic_add(&counters[i], at[i]);
-  for (uint k = 0u; k < AW_LANES; ++k) {
-    uint qq = qk[k];
-    if (qq < (uint)AW_Q_COUNT) queues[at[qq]++] = slot0 + k;
-  }
+  L_STORE(L_SEL(listed, q, L_LOAD(a->q, b)), a->q, b);
   lmask tagged = listed && q != (luint)(AW_Q_SHADOW);
   L_STORE(L_SEL(tagged, q, L_LOAD(tags + slot0, 0)), tags + slot0, 0);
 }
-#define AW_APPEND_LANES(q, slot0) append_lanes(counters, queues, tags, rp.pool_size, (q), (slot0))
 
-// What every lane kernel starts with: its block of W slots (slot0, ps) and, as ps.live, the
-// lanes that are the stage's paths (`lanes`, an expression that may read slot0 and ps); it
-// returns when the block lies past the pool or has no such lane. `lanes` may read any state
-// field: path_ref_make leaves all W lanes live until then.
-#define AW_LANES_BLOCK(lanes)                           \
-  uint slot0 = get_global_id(0) * AW_LANES;             \
-  if (slot0 + AW_LANES > rp.pool_size) return;          \
-  PathRef ps = AW_STAGE_PATH(slot0);                    \
-  ps.live = (lanes);                                    \
-  if (!L_ANY(ps.live)) return
+static inline void appends_flush(const LaneAppends* a, __global uint* counters, __global uint* queues, uint pool,
+                                 uint slot_first) {
+  uint at[AW_Q_COUNT + 1];  // per queue: lanes, then the next free entry; [AW_Q_COUNT]: none
+  for (uint i = 0u; i <= (uint)AW_Q_COUNT; ++i) at[i] = 0u;
+  for (uint k = 0u; k < AW_LANE_SPAN; ++k) ++at[a->q[k]];
+  for (uint i = 0u; i < (uint)AW_Q_COUNT; ++i)
+    if (at[i] != 0u) at[i] = i * pool + atomic_add(&counters[i], at[i]);
+  for (uint k = 0u; k < AW_LANE_SPAN; ++k) {
+    uint qq = a->q[k];
+    if (qq < (uint)AW_Q_COUNT) queues[at[qq]++] = slot_first + k;
+  }
+}
+
+// What every lane kernel's work-item starts with: its first slot, its appends.
+#define AW_LANES_WORK_ITEM                                         \
+  const uint slot_first = get_global_id(0) * AW_LANE_SPAN;       \
+  if (slot_first >= rp.pool_size) return;                          \
+  LaneAppends ap;                                                  \
+  appends_clear(&ap)
+#define AW_RECORD_LANES(b, q, slot0) appends_record(&ap, tags, (b), (slot0), (q))
+#define AW_FLUSH_APPENDS() appends_flush(&ap, counters, queues, rp.pool_size, slot_first)
+
+// What every lane kernel does first in block b of its work-item (inside the loop over the
+// blocks): the block's W slots (slot0, ps) and, as ps.live, the lanes that are the stage's
+// paths (`lanes`, an expression that may read slot0 and ps); it leaves the loop past the pool
+// and goes on to the next block when none is the stage's. `lanes` may read any state field:
+// path_ref_make leaves all W lanes live until then.
+#define AW_LANES_BLOCK(b, lanes)                              \
+  uint slot0 = slot_first + (b) * AW_LANES;                   \
+  if (slot0 + AW_LANES > rp.pool_size) break;                 \
+  PathRef ps = AW_STAGE_PATH(slot0);                          \
+  ps.live = (lanes);                                          \
+  if (!L_ANY(ps.live)) continue
 
 // regenerate on lanes: the FREE slots (tag FREE) of a dense launch over the pool. A
-// work-item's free lanes take the launch's next jobs in lane order, by one atomic per
+// work-item's free lanes take the launch's next jobs in slot order, by one atomic per
 // work-item on the FREE counter, which the host zeroes for this launch (wavefront.cpp,
 // launch): the jobs job_start .. job_start + count - 1, each once; lanes past the last job stay
 // FREE. Which slot runs which job depends on the order in which the work-items reach the
@@ -88,20 +120,29 @@ static inline void append_lanes(__global uint* counters, __global uint* queues, 
 // ~20 state words of a path in whatever slot order accumulate left in the FREE queue, a cache
 // line per word per path; here 16 paths share each line.
 AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
-  AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_FREE));
-  uint one[AW_LANES], rank[AW_LANES];
-  L_STORE(L_SEL(ps.live, (luint)(1u), (luint)(0u)), one, 0);
-  uint n = 0u;
-  for (uint k = 0u; k < AW_LANES; ++k) {
-    rank[k] = n;
-    n += one[k];
+  AW_LANES_WORK_ITEM;
+  uint rank[AW_LANE_SPAN];  // per lane: free lanes before it in the work-item
+  uint n = 0u, blocks = 0u;
+  for (uint b = 0u; b < AW_LANE_BLOCKS && slot_first + (b + 1u) * AW_LANES <= rp.pool_size; ++b, ++blocks) {
+    uint one[AW_LANES];
+    L_STORE(L_SEL(L_LOAD(tags + slot_first + b * AW_LANES, 0) == (uint)(AW_Q_FREE), (luint)(1u), (luint)(0u)), one, 0);
+    for (uint k = 0u; k < AW_LANES; ++k) {
+      rank[b * AW_LANES + k] = n;
+      n += one[k];
+    }
   }
+  if (n == 0u) return;
   uint base = atomic_add(&counters[AW_Q_FREE], n);
   if (base >= count) return;
-  luint job = (luint)(base) + L_LOAD(rank, 0);
-  ps.live = ps.live && job < (luint)(count);
-  generate_camera_ray(ps, &rp, (luint)(job_start) + job);
-  AW_APPEND_LANES(L_SEL(ps.live, (luint)(AW_Q_RAY), (luint)(AW_Q_COUNT)), slot0);
+  for (uint b = 0u; b < blocks; ++b) {
+    AW_LANES_BLOCK(b, L_LOAD(tags + slot0, 0) == (uint)(AW_Q_FREE));
+    luint job = (luint)(base) + L_LOAD(rank, b);
+    ps.live = ps.live && job < (luint)(count);
+    if (!L_ANY(ps.live)) break;
+    generate_camera_ray(ps, &rp, (luint)(job_start) + job);
+    AW_RECORD_LANES(b, L_SEL(ps.live, (luint)(AW_Q_RAY), (luint)(AW_Q_COUNT)), slot0);
+  }
+  AW_FLUSH_APPENDS();
 }
 
 // One shading kernel per lobe on lanes: kernel_shade_<name>_lanes, shade_surface on W paths.
@@ -111,31 +152,48 @@ AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
 #define AW_SHADE_LANES_KERNEL(ID, name, FEATURE, TRAITS)                                        \
   AW_STAGE_KERNEL_SCALAR(kernel_shade_##name##_lanes) {                                         \
     if (!AW_FEAT_##FEATURE) return;                                                             \
-    AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_LOBE + AW_LID_##ID));                 \
-    luint q = shade_surface(ps, AW_STAGE_SCENE, &rp, (uint)AW_LID_##ID);                        \
-    lmask shadow = ps.live && (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;                    \
-    AW_APPEND_LANES(L_SEL(shadow, (luint)(AW_Q_SHADOW), (luint)(AW_Q_COUNT)), slot0);           \
-    AW_APPEND_LANES(L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);                             \
+    AW_LANES_WORK_ITEM;                                                                         \
+    LaneAppends shadows;                                                                        \
+    appends_clear(&shadows);                                                                    \
+    for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) {                                                \
+      AW_LANES_BLOCK(b, L_LOAD(tags + slot0, 0) == (uint)(AW_Q_LOBE + AW_LID_##ID));            \
+      luint q = shade_surface(ps, AW_STAGE_SCENE, &rp, (uint)AW_LID_##ID);                      \
+      lmask shadow = ps.live && (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u;                  \
+      appends_record(&shadows, tags, b, slot0, L_SEL(shadow, (luint)(AW_Q_SHADOW), (luint)(AW_Q_COUNT))); \
+      AW_RECORD_LANES(b, L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);                        \
+    }                                                                                           \
+    appends_flush(&shadows, counters, queues, rp.pool_size, slot_first);                        \
+    AW_FLUSH_APPENDS();                                                                         \
   }
 AW_LOBE_LIST_ON_LANES(AW_SHADE_LANES_KERNEL)
 #undef AW_SHADE_LANES_KERNEL
 
 // classify_hit on lanes: the paths whose ray was traced (tag RAY), W per work-item.
 AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
-  AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY));
-  luint q = classify_hit(ps, AW_STAGE_SCENE, &rp);
-  AW_APPEND_LANES(L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);
+  AW_LANES_WORK_ITEM;
+  for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) {
+    AW_LANES_BLOCK(b, L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY));
+    luint q = classify_hit(ps, AW_STAGE_SCENE, &rp);
+    AW_RECORD_LANES(b, L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);
+  }
+  AW_FLUSH_APPENDS();
 }
 
 // The ray stages on lanes: W rays per work-item through bvh/traverse_lanes.h. The closest
 // hit's paths are those tagged RAY; a shadow ray's are those with AW_PATH_HAS_SHADOW (SHADOW
 // is not a tag: stage_kernel.h, stage_slot).
 AW_STAGE_KERNEL_SCALAR(kernel_intersect_closest_lanes) {
-  AW_LANES_BLOCK(L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY));
-  intersect_closest(ps, AW_STAGE_SCENE, &rp);
+  AW_LANES_WORK_ITEM;
+  for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) {
+    AW_LANES_BLOCK(b, L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY));
+    intersect_closest(ps, AW_STAGE_SCENE, &rp);
+  }
 }
 
 AW_STAGE_KERNEL_SCALAR(kernel_intersect_shadow_lanes) {
-  AW_LANES_BLOCK((PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u);
-  intersect_shadow(ps, AW_STAGE_SCENE, &rp);
+  AW_LANES_WORK_ITEM;
+  for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) {
+    AW_LANES_BLOCK(b, (PS_LU(ps, flags) & AW_PATH_HAS_SHADOW) != 0u);
+    intersect_shadow(ps, AW_STAGE_SCENE, &rp);
+  }
 }
