@@ -48,11 +48,15 @@ constexpr uint32_t kLanes = 16;  // paths per vector of the lane program (kernel
 constexpr uint32_t kLaneBlocks = 4;
 static_assert(kWorkGroup % (kLanes * kLaneBlocks) == 0, "the pool, a multiple of the group, is whole work-items of the lane program");
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
-// regenerate's lane form runs over the whole pool whatever its count, at a cost that does not
-// depend on it (Cornell box, pool 262144: 4.4 ms on Intel's runtime, 4.0 ms on PoCL), while
-// its queue form costs per path (52 and 57 ns): the lane form pays from about a third of the
-// pool (docs/performance.md, "regenerate on lanes").
-constexpr double kRegenDenseFraction = 1.0 / 3.0;
+// regenerate's lane form runs over the whole pool whatever its count, while its queue form
+// costs per path (52 and 57 ns on Intel's runtime and PoCL, the state written a cache line per
+// word per path). With one block per work-item the lane form cost 4.0-4.4 ms a launch and
+// paid from a third of the pool; with four (kLaneBlocks: a quarter of the atomics) it pays
+// from less than a tenth (Cornell box, stage seconds on Intel's runtime: 0.083 at a third,
+// 0.058-0.061 at 0.2, 0.15 and 0.1; PoCL 0.098-0.103 at a third, 0.071-0.075 at 0.15),
+// and 0.15 keeps a margin for the launches near the end of a batch (docs/performance.md,
+// "Appends per four blocks").
+constexpr double kRegenDenseFraction = 0.15;
 static_assert(kWorkGroup >= AW_Q_COUNT, "wg_append keeps one local counter per queue in the work-group");
 
 size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWorkGroup; }
