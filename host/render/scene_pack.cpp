@@ -481,6 +481,7 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   // occlude (a zero-radiance light is a black object). If all have zero power the pick lands
   // on a light with select_pdf 0, whose sample then contributes nothing.
   rp.num_lights = uint32_t(ps.lights.size());
+  rp.num_materials = uint32_t(ps.materials.size());
   rp.num_infinite = ps.num_infinite;
   rp.num_tree_nodes = uint32_t(ps.light_tree.size());
   rp.tree_prob = ps.tree_prob;

@@ -46,7 +46,7 @@ AW_FN float ao_ray_visibility(SceneRef sc, const AW_GLOBAL MaterialGpu* m, float
 }
 
 AW_FN int ambient_occlusion(PathRef ps, SceneRef sc, const RenderParams* rp) {
-  const AW_GLOBAL MaterialGpu* m = shading_material(ps, sc);
+  const AW_GLOBAL MaterialGpu* m = shading_material(ps, sc, rp);
   uint lid = PS_U(ps, lobe);
   int next = lid == AW_NONE ? AW_Q_DONE : AW_Q_LOBE + (int)lid;
   if (!(AW_FEAT_AO && m->ao_samples > 0u)) return next;

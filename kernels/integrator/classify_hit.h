@@ -256,12 +256,12 @@ AW_FN lfloat classify_light_mis(PathRef ps, SceneRef sc, const RenderParams* rp,
   lmask full = PS_LU(ps, bounce) == 0u || (PS_LU(ps, flags) & AW_PATH_SPECULAR) != 0u;
   if (L_ALL(full)) return (lfloat)(1.0f);
   lfloat pdf_light = light_select_pmf(sc, rp, light, ps_sp_position(ps)) *
-                     light_pdf(light_load(sc.lights, light), ps_ray_origin(ps), dir, PS_LF(ps, hit_t));
+                     light_pdf(light_load(sc.lights, rp->num_lights, light), ps_ray_origin(ps), dir, PS_LF(ps, hit_t));
   return L_SEL(full, (lfloat)(1.0f), mis_power(PS_LF(ps, bsdf_pdf), pdf_light));
 }
 
 AW_FN void classify_light_hit(PathRef ps, SceneRef sc, const RenderParams* rp, luint light, lfloat3 dir, lfloat3 thr) {
-  lfloat3 le = light_emitted(light_load(sc.lights, light), dir);
+  lfloat3 le = light_emitted(light_load(sc.lights, rp->num_lights, light), dir);
   lfloat w = classify_light_mis(ps, sc, rp, light, dir);
   ps_add_radiance(ps, l3_scale(l3_mul(thr, le), w * PS_LF(ps, emit_scale)));
 }
@@ -288,7 +288,7 @@ AW_FN void classify_environment(PathRef ps, SceneRef sc, const RenderParams* rp,
     } else
 #endif
     if (AW_FEAT_LIGHT_SUN && l->type == AW_LIGHT_SUN) {
-      pdf = sun_pdf(light_load(sc.lights, (luint)(i)), dir);
+      pdf = sun_pdf(light_load(sc.lights, rp->num_lights, (luint)(i)), dir);
       // Outside the disc, a hard sun, or a sun that camera rays do not see (light.visible).
       seen = pdf > 0.0f && !(PS_LU(ps, bounce) == 0u && (l->flags & AW_LIGHT_VISIBLE) == 0u);
       if (!L_ANY(seen)) continue;
@@ -550,12 +550,14 @@ AW_FN luint classify_choose_lobe(PathRef ps, MatL m, const RenderParams* rp, lfl
 
 // The material of each lane's triangle: the scene's table entry (textures come later, one
 // path per call).
-AW_FN MatL classify_material(SceneRef sc, luint material) {
+AW_FN MatL classify_material(SceneRef sc, const RenderParams* rp, luint material) {
 #if AW_LANES == 1
+  (void)rp;
   return &sc.materials[material];
 #else
   MatL m;
   m.table = sc.materials;
+  m.n = rp->num_materials;
   m.i = material;
   return m;
 #endif
@@ -593,7 +595,7 @@ AW_FN luint classify_hit_body(PathRef ps, SceneRef sc, const RenderParams* rp) {
   prim = L_SEL(PS_LIVE(ps), prim, (luint)(0u));
   HitVertices hv = classify_vertices(ps, sc, prim);
   luint material = L_GATHER(uint, sc.tri_info, prim, material);
-  MatL m = classify_material(sc, material);
+  MatL m = classify_material(sc, rp, material);
 #if AW_LANES == 1
   HitPoint h = hv.sphere ? classify_sphere_point(ps, &hv, dir) : classify_hit_point(ps, &hv, dir);
 #else
@@ -616,7 +618,7 @@ AW_FN luint classify_hit_body(PathRef ps, SceneRef sc, const RenderParams* rp) {
   if (AW_FEAT_TEXTURE) {
     classify_texture_point(ps, &hv.v[0], &hv.v[1], &hv.v[2], h, dir);
     PS_U(ps, material) = material;
-    m = shading_material(ps, sc);
+    m = shading_material(ps, sc, rp);
     if (AW_FEAT_BUMP && m->bump_binding != AW_NONE) h.n = classify_bump(ps, sc, m, h, &hv.v[0], &hv.v[1], &hv.v[2], dir);
   }
   // The AOVs of the first hit (integrator/aov.h): the ray's direction is a unit vector, so

@@ -47,9 +47,8 @@
 // The appends of a work-item's blocks: lane k of block b goes to queue q[b * W + k] (none
 // when AW_Q_COUNT), slot slot_first + b * W + k. Recorded per block (appends_record), written
 // at the end (appends_flush) with one global atomic per queue that any of its lanes names, so
-// at most AW_LANE_SPAN paths per atomic and usually several. As a histogram: count the lanes
-// per queue, one atomic per queue that has any, then one pass over the lanes writing each
-// where its queue's cursor is. Within a queue the lanes keep their slot order.
+// at most AW_LANE_SPAN paths per atomic and usually several. Within a queue the lanes keep
+// their slot order.
 //
 // No barrier (no aggregation per work-group, as wg_append in stage_kernel.h does): a lane
 // kernel with wg_append's barriers corrupted paths when PoCL 3.1 ran work-groups on two
@@ -76,16 +75,57 @@ static inline void appends_record(LaneAppends* a, __global uint* tags, uint b, u
   L_STORE(L_SEL(tagged, q, L_LOAD(tags + slot0, 0)), tags + slot0, 0);
 }
 
+// The lanes of m as the bits of a uint (lane k: bit k), by an OR over halves of the vector.
+static inline uint lane_bits(lmask m) {
+#if AW_LANES == 16
+  uint16 v = as_uint16(m) & (uint16)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u, 256u, 512u, 1024u, 2048u, 4096u, 8192u,
+                                     16384u, 32768u);
+  uint8 h = v.lo | v.hi;
+#else
+  uint8 h = as_uint8(m) & (uint8)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u);
+#endif
+  uint4 f = h.lo | h.hi;
+  uint2 t = f.lo | f.hi;
+  return t.x | t.y;
+}
+
+// The queues a block's lanes name (listed: q < AW_Q_COUNT) as the bits of a uint.
+typedef char aw_queues_fit_a_uint[AW_Q_COUNT <= 32 ? 1 : -1];
+static inline uint queues_named(luint q) {
+  luint bit = L_SEL(q < (luint)(AW_Q_COUNT), (luint)(1u) << (q & (luint)(31u)), (luint)(0u));
+#if AW_LANES == 16
+  uint8 h = bit.lo | bit.hi;
+#else
+  uint8 h = bit;
+#endif
+  uint4 f = h.lo | h.hi;
+  uint2 t = f.lo | f.hi;
+  return t.x | t.y;
+}
+
+// Why bit masks and not a histogram over the lanes in an array: the array's counters, read and
+// written once per lane through memory, made one chain of store-to-load forwarding 64 lanes
+// long, twice per flush (14% of shade_diffuse's samples on Intel's runtime sat in those two
+// loops; docs/performance.md, "Appends per four blocks"). Here the queues named (usually one
+// or two) are found first, then each queue's lanes are a mask per block, counted by popcount
+// and written lowest lane first, so each queue keeps its lanes' slot order as before.
 static inline void appends_flush(const LaneAppends* a, __global uint* counters, __global uint* queues, uint pool,
                                  uint slot_first) {
-  uint at[AW_Q_COUNT + 1];  // per queue: lanes, then the next free entry; [AW_Q_COUNT]: none
-  for (uint i = 0u; i <= (uint)AW_Q_COUNT; ++i) at[i] = 0u;
-  for (uint k = 0u; k < AW_LANE_SPAN; ++k) ++at[a->q[k]];
-  for (uint i = 0u; i < (uint)AW_Q_COUNT; ++i)
-    if (at[i] != 0u) at[i] = i * pool + atomic_add(&counters[i], at[i]);
-  for (uint k = 0u; k < AW_LANE_SPAN; ++k) {
-    uint qq = a->q[k];
-    if (qq < (uint)AW_Q_COUNT) queues[at[qq]++] = slot_first + k;
+  uint named = 0u;
+  for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) named |= queues_named(L_LOAD(a->q, b));
+  while (named != 0u) {
+    uint i = popcount((named & (0u - named)) - 1u);  // the lowest queue named
+    named &= named - 1u;
+    uint bits[AW_LANE_BLOCKS];
+    uint n = 0u;
+    for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) {
+      bits[b] = lane_bits(L_LOAD(a->q, b) == (luint)(i));
+      n += popcount(bits[b]);
+    }
+    uint at = i * pool + atomic_add(&counters[i], n);
+    for (uint b = 0u; b < AW_LANE_BLOCKS; ++b)
+      for (uint m = bits[b]; m != 0u; m &= m - 1u)
+        queues[at++] = slot_first + b * AW_LANES + popcount((m & (0u - m)) - 1u);
   }
 }
 

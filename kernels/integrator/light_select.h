@@ -41,7 +41,7 @@ AW_FN luint light_choose(SceneRef sc, const RenderParams* rp, lfloat3 p, lfloat 
   }
 #endif
   luint li = light_pick(sc.lights, rp->num_lights, u);
-  *select_pmf = L_GATHER(float, sc.lights, li, select_pdf);
+  *select_pmf = light_select_pdf(sc.lights, rp->num_lights, li);
   return li;
 }
 
@@ -51,7 +51,7 @@ AW_FN lfloat light_select_pmf(SceneRef sc, const RenderParams* rp, luint li, lfl
 #if AW_LANES == 1
   if (light_tree_used(rp) && li >= rp->num_infinite) return rp->tree_prob * light_tree_pmf(sc.light_tree, &sc.lights[li], p);
 #endif
-  return L_GATHER(float, sc.lights, li, select_pdf);
+  return light_select_pdf(sc.lights, rp->num_lights, li);
 }
 
 // The closest analytic light along a ray (lights_intersect's contract), through the tree's
@@ -90,7 +90,7 @@ AW_FN LightSample shade_pick_light(PathRef ps, SceneRef sc, const RenderParams* 
     *pdf = (lfloat)(0.0f);
     return nothing;
   }
-  LightL l = light_load(sc.lights, *light);
+  LightL l = light_load(sc.lights, rp->num_lights, *light);
   lfloat2 u = rng_2d(rp_sampler(rp), pixel, sample, bounce, AW_DIM_LIGHT);
   LightSample ls;
 #if AW_LANES == 1

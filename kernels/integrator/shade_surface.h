@@ -25,7 +25,7 @@
 AW_FN luint shade_surface(PathRef ps, SceneRef sc, const RenderParams* rp, uint lid) {
   lfloat3 p = ps_sp_position(ps);
   lfloat3 ng = ps_sp_geo_normal(ps);
-  MatL m = shading_material(ps, sc);
+  MatL m = shading_material(ps, sc, rp);
   lfloat3 n = shading_normal_for_lobe(ps, m, lid);
 #if AW_LANES == 1
   aov_first_scatter(ps, rp, lid);  // the light groups: everything from here on is this lobe's

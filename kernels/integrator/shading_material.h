@@ -25,7 +25,8 @@ AW_FN SurfaceUv ps_surface_uv(PathRef ps) {
   return s;
 }
 
-AW_FN MatL shading_material(PathRef ps, SceneRef sc) {
+AW_FN MatL shading_material(PathRef ps, SceneRef sc, const RenderParams* rp) {
+  (void)rp;
   const AW_GLOBAL MaterialGpu* m = &sc.materials[PS_U(ps, material)];
   if (!(AW_FEAT_TEXTURE && m->tex_count > 0u)) return m;
   AW_GLOBAL MaterialGpu* r = &sc.mat_resolved[ps.slot];
@@ -37,9 +38,10 @@ AW_FN MatL shading_material(PathRef ps, SceneRef sc) {
 // (texture/), so a program built on lanes is built only for scenes without them. A lane that
 // is not the stage's path reads material 0: its slot's index may be stale or AW_NONE, and a
 // gather through it would read outside the table.
-AW_FN MatL shading_material(PathRef ps, SceneRef sc) {
+AW_FN MatL shading_material(PathRef ps, SceneRef sc, const RenderParams* rp) {
   MatL m;
   m.table = sc.materials;
+  m.n = rp->num_materials;
   m.i = L_SEL(PS_LIVE(ps), PS_LU(ps, material), (luint)(0u));
   return m;
 }

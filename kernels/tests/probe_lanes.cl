@@ -147,7 +147,7 @@ __kernel void probe_lights_lanes(uint n, __global const float* in, __global floa
   lfloat v[AW_PROBE_LIGHTS_LANES_IN];
   for (uint k = 0u; k < AW_PROBE_LIGHTS_LANES_IN; ++k) v[k] = L_LOAD(in + k * n, g);
   lfloat3 p = make_lfloat3(v[0], v[1], v[2]), dir = make_lfloat3(v[5], v[6], v[7]);
-  LightL l = light_load(lights, L_AS_UINT(v[9]));
+  LightL l = light_load(lights, params[0], L_AS_UINT(v[9]));
   LightSample s = light_sample(l, p, make_lfloat2(v[3], v[4]));
   lfloat3 le = light_emitted(l, dir);
   lfloat r[AW_PROBE_LIGHTS_LANES_OUT];

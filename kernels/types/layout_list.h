@@ -58,4 +58,5 @@ AW_LAYOUT_ENTRY(54, VertexData, uv2)
 AW_LAYOUT_ENTRY(55, TexBindingGpu, uv_set)
 AW_LAYOUT_ENTRY(56, RenderParams, win_x0)
 AW_LAYOUT_ENTRY(57, RenderParams, sample_start)
-#define AW_LAYOUT_COUNT 58
+AW_LAYOUT_ENTRY(58, RenderParams, num_materials)
+#define AW_LAYOUT_COUNT 59

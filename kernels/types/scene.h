@@ -118,6 +118,7 @@ typedef struct {
   // [sample_start, sample_start + film_count[p]) (integrator/film.h).
   uint sample_start;
   uint aov_mask;  // the AOVs the film keeps: a bit per AW_AOV_* (integrator/aov.h); 0: none
+  uint num_materials;  // the scene's material table (material/architectural.h, MatL on lanes)
 } RenderParams;
 
 #endif

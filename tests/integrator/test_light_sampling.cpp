@@ -60,7 +60,7 @@ TEST(SphericalRectangle, SamplesFollowTheSolidAngle) {
   const LightGpu l = quad_light({-0.5f, 0.0f, -0.3f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.6f}, true);
   for (glm::vec3 o : {glm::vec3(0.2f, -0.4f, 0.1f), glm::vec3(-0.3f, -0.2f, 0.4f), glm::vec3(0.0f, 0.5f, 0.0f)}) {
     SphRect r;
-    ASSERT_TRUE(light_quad_by_solid_angle(light_load(&l, 0u), o, &r));
+    ASSERT_TRUE(light_quad_by_solid_angle(light_load(&l, 1u, 0u), o, &r));
     const int g = 8, n = 200000;
     std::vector<double> expect(g * g);
     double total = 0.0;
@@ -72,10 +72,10 @@ TEST(SphericalRectangle, SamplesFollowTheSolidAngle) {
     std::uniform_real_distribution<float> U(0.0f, 0.99999994f);
     std::vector<double> count(g * g, 0.0);
     for (int k = 0; k < n; ++k) {
-      LightSample s = light_sample(light_load(&l, 0u), o, float2(U(rng), U(rng)));
+      LightSample s = light_sample(light_load(&l, 1u, 0u), o, float2(U(rng), U(rng)));
       ASSERT_GT(s.pdf, 0.0f);
       ASSERT_FLOAT_EQ(s.pdf, 1.0f / r.S);
-      ASSERT_FLOAT_EQ(light_pdf(light_load(&l, 0u), o, s.wi, s.dist), s.pdf);  // what MIS reads for the same direction
+      ASSERT_FLOAT_EQ(light_pdf(light_load(&l, 1u, 0u), o, s.wi, s.dist), s.pdf);  // what MIS reads for the same direction
       glm::vec3 y = o + s.dist * s.wi - glm::vec3(-0.5f, 0.0f, -0.3f);
       int a = std::min(g - 1, std::max(0, int(y.x / 1.0f * g))), b = std::min(g - 1, std::max(0, int(y.z / 0.6f * g)));
       ASSERT_NEAR(y.y, 0.0f, 1e-4f);  // on the light's plane
@@ -116,7 +116,7 @@ TEST(SphericalRectangle, SameMeanAsAreaSamplingAndLessVariance) {
     const int n = 400000;
     double s = 0.0, s2 = 0.0;
     for (int k = 0; k < n; ++k) {
-      LightSample ls = light_sample(light_load(&l, 0u), o, float2(U(rng), U(rng)));
+      LightSample ls = light_sample(light_load(&l, 1u, 0u), o, float2(U(rng), U(rng)));
       double v = ls.pdf > 0.0f ? double(ls.le.x) * std::max(0.0f, glm::dot(ls.wi, np)) / ls.pdf : 0.0;
       s += v;
       s2 += v * v;
@@ -133,16 +133,16 @@ TEST(SphericalRectangle, SameMeanAsAreaSamplingAndLessVariance) {
 TEST(SphericalRectangle, FarLightsAndParallelogramsAreSampledByArea) {
   const LightGpu rect = quad_light({-0.5f, 0.0f, -0.5f}, {1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, true);
   SphRect r;
-  EXPECT_TRUE(light_quad_by_solid_angle(light_load(&rect, 0u), glm::vec3(0.0f, -0.5f, 0.0f), &r));   // S = 2.06 sr
-  EXPECT_FALSE(light_quad_by_solid_angle(light_load(&rect, 0u), glm::vec3(0.0f, -1.0f, 0.0f), &r));  // the bound passes (A h / d^3 = 1), S = 0.80 sr does not
-  EXPECT_FALSE(light_quad_by_solid_angle(light_load(&rect, 0u), glm::vec3(0.0f, -20.0f, 0.0f), &r));  // S ~ 2.5e-3 sr
+  EXPECT_TRUE(light_quad_by_solid_angle(light_load(&rect, 1u, 0u), glm::vec3(0.0f, -0.5f, 0.0f), &r));   // S = 2.06 sr
+  EXPECT_FALSE(light_quad_by_solid_angle(light_load(&rect, 1u, 0u), glm::vec3(0.0f, -1.0f, 0.0f), &r));  // the bound passes (A h / d^3 = 1), S = 0.80 sr does not
+  EXPECT_FALSE(light_quad_by_solid_angle(light_load(&rect, 1u, 0u), glm::vec3(0.0f, -20.0f, 0.0f), &r));  // S ~ 2.5e-3 sr
   glm::vec3 far(0.1f, -20.0f, 0.2f);
-  LightSample s = light_sample(light_load(&rect, 0u), far, float2(0.3f, 0.6f));
+  LightSample s = light_sample(light_load(&rect, 1u, 0u), far, float2(0.3f, 0.6f));
   glm::vec3 y = far + s.dist * s.wi;
   EXPECT_NEAR(y.x, -0.2f, 1e-4f);  // the area parametrisation: corner + u edge_u + v edge_v
   EXPECT_NEAR(y.z, 0.1f, 1e-4f);
   const LightGpu skew = quad_light({-0.5f, 0.0f, -0.5f}, {1.0f, 0.0f, 0.0f}, {0.5f, 0.0f, 1.0f}, false);
-  EXPECT_FALSE(light_quad_by_solid_angle(light_load(&skew, 0u), glm::vec3(0.0f, -1.0f, 0.0f), &r));
+  EXPECT_FALSE(light_quad_by_solid_angle(light_load(&skew, 1u, 0u), glm::vec3(0.0f, -1.0f, 0.0f), &r));
 }
 
 // The cheap bound that skips the exact solid angle (S <= A |h| / d^3, d the distance to the
@@ -159,7 +159,7 @@ TEST(SphericalRectangle, TheBoundSkipsOnlyWhatTheExactSolidAngleRejects) {
     SphRect exact = sph_rect_make(glm::vec3(-0.5f, 0.0f, -0.3f), glm::vec3(1, 0, 0), glm::vec3(0, 0, 0.6f), p);
     bool want = exact.S > AW_SPH_RECT_MIN_SOLID_ANGLE && exact.S < AW_SPH_RECT_MAX_SOLID_ANGLE && std::isfinite(exact.S);
     SphRect r;
-    bool got = light_quad_by_solid_angle(light_load(&l, 0u), p, &r) != 0;
+    bool got = light_quad_by_solid_angle(light_load(&l, 1u, 0u), p, &r) != 0;
     ASSERT_EQ(got, want) << "p = " << p.x << " " << p.y << " " << p.z << ", S = " << exact.S;
     taken += got;
     // The old bound A / h^2 would have computed the exact S here:
@@ -239,12 +239,12 @@ std::vector<LightGpu> lane_test_lights(std::mt19937& rng) {
 // picked, 16 paths per work-item, against the host's C++ of the same functions at one path:
 // every output bit equal. Lanes of a block mostly hold different light types (so each type's
 // branch runs with the others' lanes masked off); one block in three has one light (so the
-// branches taken when every lane agrees run too).
-TEST(LightLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
+// branches taken when every lane agrees run too). Run on the whole table (more lights than
+// AW_SMALL_LIGHT_TABLE: every field gathered per lane) and on a table of three (each field a
+// broadcast per light and a select per lane, lights/lights.h).
+void check_lights_on_lanes(const std::vector<LightGpu>& lights, std::mt19937& rng) {
   const uint32_t n = 8192;
-  std::mt19937 rng(51205);
   std::uniform_real_distribution<float> uni(0.0f, 1.0f), box(-1.5f, 1.5f);
-  const std::vector<LightGpu> lights = lane_test_lights(rng);
   std::uniform_int_distribution<uint32_t> pick(0, uint32_t(lights.size()) - 1u);
   std::vector<float> in(12 * n);
   uint32_t block_light = 0;
@@ -269,7 +269,7 @@ TEST(LightLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
     glm::vec3 p(in[i], in[n + i], in[2 * n + i]), dir(in[5 * n + i], in[6 * n + i], in[7 * n + i]);
     uint32_t li;
     std::memcpy(&li, &in[9 * n + i], 4);
-    LightL l = light_load(lights.data(), li);
+    LightL l = light_load(lights.data(), num, li);
     LightSample s = light_sample(l, p, float2(in[3 * n + i], in[4 * n + i]));
     glm::vec3 le = light_emitted(l, dir);
     uint32_t picked = light_pick(lights.data(), num, in[10 * n + i]);
@@ -293,6 +293,27 @@ TEST(LightLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
   EXPECT_EQ(differ, 0u);
   EXPECT_GT(sampled, n / 2);       // most samples are live ones
   EXPECT_GT(by_solid_angle, 300u);  // and the spherical rectangles ran
+}
+
+TEST(LightLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
+  std::mt19937 rng(51205);
+  const std::vector<LightGpu> lights = lane_test_lights(rng);
+  ASSERT_GT(lights.size(), size_t(AW_SMALL_LIGHT_TABLE));  // the gathered form
+  check_lights_on_lanes(lights, rng);
+}
+
+TEST(LightLanes, ASmallTableEqualsTheHostBitForBit) {
+  std::mt19937 rng(61206);
+  std::vector<LightGpu> all = lane_test_lights(rng), lights;
+  for (const LightGpu& l : all)  // a quad (sampled by solid angle near it), a sphere, a point light
+    if ((l.type == AW_LIGHT_QUAD && lights.empty()) || (l.type == AW_LIGHT_SPHERE && lights.size() == 1) ||
+        (l.type == AW_LIGHT_POINT && lights.size() == 2))
+      lights.push_back(l);
+  ASSERT_EQ(lights.size(), 3u);
+  ASSERT_LE(lights.size(), size_t(AW_SMALL_LIGHT_TABLE));  // the broadcast form
+  std::uniform_int_distribution<uint32_t> pick(0, 2);
+  for (LightGpu& l : lights) l.alias = pick(rng);  // aliases within the table
+  check_lights_on_lanes(lights, rng);
 }
 
 // Next-event estimation's choice of a light and of a point on it (shade_pick_light: the alias
@@ -348,8 +369,9 @@ TEST(LightLanes, PickingALightEqualsTheHostBitForBit) {
     }
     EXPECT_EQ(differ, 0u) << num << " lights";
     EXPECT_GT(live, n / 3) << num << " lights";
-    if (num > 1)
+    if (num > 1) {
       for (size_t li = 0; li < lights.size(); ++li) EXPECT_GT(picked[li], 0u) << "light " << li << " never picked";
+    }
   }
 }
 

@@ -169,7 +169,7 @@ TEST(LightTree, EveryLightThatReachesAPointCanBeChosenThere) {
     for (size_t i = 0; i < s.lights.size(); ++i) {
       if (!(s.power[i] > 0.0)) continue;
       // A light sample that carries radiance towards p: the light reaches p.
-      LightSample ls = light_sample(light_load(s.lights.data(), uint32_t(i)), p, make_float2(u(rng), u(rng)));
+      LightSample ls = light_sample(light_load(s.lights.data(), uint32_t(s.lights.size()), uint32_t(i)), p, make_float2(u(rng), u(rng)));
       if (!(ls.pdf > 0.0f) || !(max3(ls.le) > 0.0f)) continue;
       ++checked;
       EXPECT_GT(light_tree_pmf(s.tree.data(), &s.lights[i], p), 0.0f) << "light " << i << " type " << s.lights[i].type;

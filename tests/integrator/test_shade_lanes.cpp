@@ -245,7 +245,20 @@ TEST(ShadeLanes, DiffuseStageEqualsTheHostBitForBit) {
     for (uint32_t k = 0; k < nu; ++k) std::memcpy(&in[(nf + k) * n + i], &u[k], 4);
     in[nstate * n + i] = i % 7 == 3 ? 0.0f : 1.0f;
   }
+  // The whole table (more than AW_SMALL_MATERIAL_TABLE: each field gathered per lane), and
+  // its first four with the lanes' indices folded onto them (a broadcast and a select per field).
+  const std::vector<float> in_all = in;
+  const std::vector<MaterialGpu> mats_all = mats;
+  for (uint32_t nm : {uint32_t(mats_all.size()), AW_SMALL_MATERIAL_TABLE})
   for (uint32_t gi : {1u, 0u}) {
+    mats.assign(mats_all.begin(), mats_all.begin() + nm);
+    in = in_all;
+    for (uint32_t i = 0; i < n; ++i) {
+      uint32_t m;
+      std::memcpy(&m, &in[(nf + AW_SU_material) * n + i], 4);
+      m %= nm;
+      std::memcpy(&in[(nf + AW_SU_material) * n + i], &m, 4);
+    }
     RenderParams rp;
     std::memset(&rp, 0, sizeof rp);
     rp.sampler = AW_SAMPLER_SOBOL;
@@ -254,6 +267,7 @@ TEST(ShadeLanes, DiffuseStageEqualsTheHostBitForBit) {
     rp.cutoff = 0.05f;
     rp.gi = gi;
     rp.num_lights = uint32_t(lights.size());
+    rp.num_materials = nm;
     std::vector<float> dev = aw::lobe_test::run_device_probe(
         "tests/probe_lanes.cl", "probe_shade_surface_lanes", in, nstate + 1, n,
         {{mats.data(), mats.size() * sizeof(MaterialGpu)}, {lights.data(), lights.size() * sizeof(LightGpu)},
@@ -272,10 +286,10 @@ TEST(ShadeLanes, DiffuseStageEqualsTheHostBitForBit) {
       rays += q[i] == AW_Q_RAY;
       shadows += (h.su[AW_SU_flags * n + i] & AW_PATH_HAS_SHADOW) != 0u;
     }
-    size_t differ = count_differences(h, in, dev, q, "gi " + std::to_string(gi) + ": ");
-    EXPECT_EQ(differ, 0u) << "gi " << gi;
-    EXPECT_GT(rays, live / 4) << "gi " << gi;
-    EXPECT_GT(shadows, live / 4) << "gi " << gi;
+    size_t differ = count_differences(h, in, dev, q, std::to_string(nm) + " materials, gi " + std::to_string(gi) + ": ");
+    EXPECT_EQ(differ, 0u) << nm << " materials, gi " << gi;
+    EXPECT_GT(rays, live / 4) << nm << " materials, gi " << gi;
+    EXPECT_GT(shadows, live / 4) << nm << " materials, gi " << gi;
   }
 }
 
@@ -440,6 +454,7 @@ TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
   rp.num_infinite = 1u;
   rp.has_mesh_lights = 1u;
   rp.env_radiance[0] = 0.1f, rp.env_radiance[1] = 0.2f, rp.env_radiance[2] = 0.3f;
+  rp.num_materials = uint32_t(mats.size());  // above AW_SMALL_MATERIAL_TABLE: gathered (ShadeLanes has both forms)
   std::vector<float> dev = aw::lobe_test::run_device_probe(
       "tests/probe_lanes.cl", "probe_classify_lanes", in, nstate + 1, n,
       {{tris.data(), tris.size() * sizeof(TriangleInfo)},
