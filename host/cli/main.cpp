@@ -220,7 +220,7 @@ int main(int argc, char** argv) {
   app.add_option("--kernels", kernel_dir,
                  "Load kernel sources from this kernels/ directory instead of the embedded copy "
                  "(development; also $ARCHWAVE_KERNEL_DIR)");
-  app.add_option("--pool", pool, "Path states in flight on the device (default 65536 on a CPU, 1048576 on a GPU, or $ARCHWAVE_POOL)");
+  app.add_option("--pool", pool, "Path states in flight on the device (default 65536 on Intel's CPU runtime, 262144 on other CPU devices, 1048576 on a GPU, or $ARCHWAVE_POOL)");
   app.add_option("--dense-fraction", dense_fraction,
                  "Queues holding at least this share of the path pool are consumed in slot order, one "
                  "work-item per slot (default 0.25; 0 = always, above 1 = never; for measurement, the "

@@ -27,7 +27,7 @@ struct PixelBounds {
 
 struct RenderOptions {
   int device = kDefaultDevice;  // OpenCL device index (wavefront only); kDefaultDevice: see cl_runtime.h
-  uint32_t pool_size = 0;     // path states in flight; 0 = default (2^16 on a CPU, 2^20 on a GPU, or $ARCHWAVE_POOL)
+  uint32_t pool_size = 0;     // path states in flight; 0 = default (2^16 on Intel's CPU runtime, 2^18 on other CPU devices, 2^20 on a GPU, or $ARCHWAVE_POOL)
   uint32_t max_batch = 0;     // jobs per film batch; 0 = default (4 × pool)
   // Queues holding at least this share of the pool run as dense launches (slot order, see
   // host/render/wavefront.cpp); negative = the default. 0 = always dense, > 1 = never.

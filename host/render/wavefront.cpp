@@ -64,12 +64,14 @@ size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWork
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Path states in flight when --pool is not given. CPUs: 2^16. Once the stages ran 16 paths per
-// vector the state's traffic began to show: on Intel's runtime the Cornell box at 256x256 took
+// Path states in flight when --pool is not given. Intel's CPU runtime: 2^16. Once the stages ran
+// 16 paths per vector the state's traffic began to show there: the Cornell box at 256x256 took
 // 0.838-0.845 s with 2^16 against 0.879-0.950 with 2^18 (classify_hit and shade_diffuse 15-20%
 // faster, their state 18 MB against 71 MB), 1.63-1.66 against 1.72-1.80 s at the race's 128x128
-// and 256 spp, the race's other scenes level; PoCL level; 2^15 and 2^14 slower (more iterations,
-// each with its launches; docs/performance.md, "A smaller path pool on CPUs"). GPUs: 2^20, measured on an H200 (132 multiprocessors, 2026-12-04):
+// and 256 spp, the race's other scenes level; 2^15 and 2^14 slower (more iterations, each with
+// its launches). Other CPU devices (PoCL): 2^18, where each launch costs more and 2^16 was level
+// at 256x256 but 0-20% slower at the race's 64 spp (docs/performance.md, "A smaller path pool
+// on CPUs"). GPUs: 2^20, measured on an H200 (132 multiprocessors, 2026-12-04):
 // the Cornell box at 1024x1024, 64 spp rendered at 143 Msamples/s with 2^20 paths against 88
 // with 2^18; every stage ran 1.6-3.4x more items per second, a 2^18 pool leaving most of the
 // GPU's 270k resident threads without work. The image does not depend on it.
@@ -78,7 +80,8 @@ uint32_t default_pool_size(const DeviceInfo& device) {
     long v = std::strtol(e, nullptr, 10);
     if (v >= long(kWorkGroup)) return uint32_t(v);
   }
-  return device.type == "GPU" ? 1u << 20 : 1u << 16;
+  if (device.type == "GPU") return 1u << 20;
+  return device.platform.find("Intel") != std::string::npos ? 1u << 16 : 1u << 18;
 }
 
 template <class T>
