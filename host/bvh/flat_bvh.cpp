@@ -1,4 +1,5 @@
 #include "host/bvh/flat_bvh.h"
+#include "kernels/bvh/intersect_triangle.h"
 
 #include <algorithm>
 #include <chrono>
@@ -132,6 +133,11 @@ struct Flattener {
       std::memcpy(&lt.v0[3], &id, 4);
       lt.v1[0] = b.x; lt.v1[1] = b.y; lt.v1[2] = b.z; lt.v1[3] = 0.0f;
       lt.v2[0] = c.x; lt.v2[1] = c.y; lt.v2[2] = c.z; lt.v2[3] = 0.0f;
+      // The plane intersect_triangle measures t from, once per triangle (the kernels' function).
+      float3 n;
+      const uint32_t corner = triangle_plane(a, b, c, &n);
+      lt.plane[0] = n.x; lt.plane[1] = n.y; lt.plane[2] = n.z;
+      std::memcpy(&lt.plane[3], &corner, 4);
       out.leaf_tris.push_back(lt);
     }
     ++out.leaf_count;

@@ -46,10 +46,60 @@ AW_FN RayShear ray_shear_make(lfloat3 dir) {
   return s;
 }
 
+// The plane intersect_triangle measures a hit's distance t from, t = ((vk - org) . n) /
+// (dir . n) with dir . n = (sx n_kx + sy n_ky + n_kz) / sz, instead of the paper's scaled distance
+// T = U az + V bz + W cz (Sec. 3): T adds the edge functions times the vertices' distances
+// along the ray, so their rounding (absolute, of the size of the products of the sheared
+// coordinates) is multiplied by those distances. For a long, thin triangle far larger than
+// the ray's distance to it that error exceeds t itself: a 2e4 x 1 triangle at distance ~1
+// got t wrong by up to 13, and 2-3% of the rays that hit it missed (t < 0), where the plane
+// errs by 5e-6 as Embree does (BvhVsEmbree.LongThinTrianglesKeepTheirDistance,
+// Extremes.DegenerateMeshGeometryRendersCleanAndWatertight). The plane is taken at vk, the
+// corner opposite the longest edge, with n the cross product of the two shorter edges, which
+// meet there at the triangle's widest angle: from a needle's tip, two long, nearly parallel
+// edges cancel in the cross product, and a ray starting 1e-5 from a needle's plane got the
+// wrong sign of t (BvhVsEmbree.RandomSoupWithSlivers, built with clang). The edge functions
+// alone still decide hit or miss (watertight). Written out, not dot/cross, so that the host
+// and the device round the same operations. T stays the fallback where the plane gives no
+// finite t (a sliver whose edges' cross product rounds to 0).
+//
+// Returns k, the corner v_k the plane is taken at (0, 1, 2), and writes its normal n. A
+// triangle's own, the same for every ray: the flattener computes it once into
+// LeafTriangle.plane (host/bvh/flat_bvh.cpp) with this function compiled as C++, contraction
+// off on both sides, so every traversal reads the bits the kernels computed before
+// (docs/performance.md, "Each triangle's plane at flatten time").
+AW_FN uint triangle_plane(float3 v0, float3 v1, float3 v2, float3* n_out) {
+  float3 e01 = v1 - v0, e12 = v2 - v1, e20 = v0 - v2;
+  float l01 = e01.x * e01.x + e01.y * e01.y + e01.z * e01.z;
+  float l12 = e12.x * e12.x + e12.y * e12.y + e12.z * e12.z;
+  float l20 = e20.x * e20.x + e20.y * e20.y + e20.z * e20.z;
+  // vk and its two edges (both pointing away from it, so n keeps the winding's orientation).
+  uint k = 0u;  // the longest edge is v1 v2
+  float3 ea = e01, eb = -e20;
+  if (l20 >= l12 && l20 >= l01) {  // k = 1: the longest edge is v2 v0
+    k = 1u;
+    ea = e12;
+    eb = -e01;
+  } else if (l01 >= l12 && l01 >= l20) {  // k = 2: the longest edge is v0 v1
+    k = 2u;
+    ea = e20;
+    eb = -e12;
+  }
+  // Each component of the cross product by diff_of_products: for a sliver (edges nearly
+  // parallel or antiparallel) the plain products cancel, and their rounding tilted n by up to
+  // u / sin(angle) in any direction, 1e-4 rad for an aspect of 1e-4: a ray leaving such a
+  // sliver 3.7e-6 above its plane hit it again 1e-4 farther along (BvhVsEmbree.RaysLeavingA
+  // SurfaceNeverHitIt). Rounded once per component, n keeps only the edges' own rounding,
+  // which tilts it about the sliver's own axis.
+  *n_out = make_float3(diff_of_products(ea.y, eb.z, ea.z, eb.y), diff_of_products(ea.z, eb.x, ea.x, eb.z),
+                       diff_of_products(ea.x, eb.y, ea.y, eb.x));
+  return k;
+}
+
 // Returns true (per lane) for a hit with t_min < t < t_max and writes t, u, v (barycentrics
 // of v1 and v2, Embree's convention); where it returns false they hold anything. Triangles
 // are double sided; degenerate ones never hit.
-AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, float3 v2,
+AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, float3 v2, float3 n, uint k,
                                lfloat t_min, lfloat t_max, lfloat* t_out, lfloat* u_out, lfloat* v_out) {
   lfloat3 a3 = l3_sub(l3_bcast(v0), org), b3 = l3_sub(l3_bcast(v1), org), c3 = l3_sub(l3_bcast(v2), org);
   lfloat az = l3_get(a3, s.kz), bz = l3_get(b3, s.kz), cz = l3_get(c3, s.kz);
@@ -77,47 +127,14 @@ AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, fl
   lfloat det = U + V + W;
   lmask hit = !((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) && det != 0.0f;
   if (!L_ANY(hit)) return hit;
-  // The hit distance from the triangle's plane, t = ((vk - org) . n) / (dir . n) with
-  // dir . n = (sx n_kx + sy n_ky + n_kz) / sz, instead of the paper's scaled distance
-  // T = U az + V bz + W cz (Sec. 3): T adds the edge functions times the vertices' distances
-  // along the ray, so their rounding (absolute, of the size of the products of the sheared
-  // coordinates) is multiplied by those distances. For a long, thin triangle far larger than
-  // the ray's distance to it that error exceeds t itself: a 2e4 x 1 triangle at distance ~1
-  // got t wrong by up to 13, and 2-3% of the rays that hit it missed (t < 0), where the plane
-  // errs by 5e-6 as Embree does (BvhVsEmbree.LongThinTrianglesKeepTheirDistance,
-  // Extremes.DegenerateMeshGeometryRendersCleanAndWatertight). The plane is taken at vk, the
-  // corner opposite the longest edge, with n the cross product of the two shorter edges, which
-  // meet there at the triangle's widest angle: from a needle's tip, two long, nearly parallel
-  // edges cancel in the cross product, and a ray starting 1e-5 from a needle's plane got the
-  // wrong sign of t (BvhVsEmbree.RandomSoupWithSlivers, built with clang). The edge functions
-  // alone still decide hit or miss (watertight). Written out, not dot/cross, so that the host
-  // and the device round the same operations. T stays the fallback where the plane gives no
-  // finite t (a sliver whose edges' cross product rounds to 0).
+  // The hit distance from the triangle's plane (triangle_plane, below: its normal n at its
+  // corner v_k), t = ((v_k - org) . n) / (dir . n) with dir . n = (sx n_kx + sy n_ky + n_kz) / sz.
   lfloat inv_det = 1.0f / det;
-  float3 e01 = v1 - v0, e12 = v2 - v1, e20 = v0 - v2;
-  float l01 = e01.x * e01.x + e01.y * e01.y + e01.z * e01.z;
-  float l12 = e12.x * e12.x + e12.y * e12.y + e12.z * e12.z;
-  float l20 = e20.x * e20.x + e20.y * e20.y + e20.z * e20.z;
-  // vk and its two edges (both pointing away from it, so n keeps the winding's orientation).
-  lfloat3 p = a3;  // k = 0: the longest edge is v1 v2 (the choice is the triangle's, the same in every lane)
-  float3 ea = e01, eb = -e20;
-  if (l20 >= l12 && l20 >= l01) {      // k = 1: the longest edge is v2 v0
+  lfloat3 p = a3;
+  if (k == 1u)
     p = b3;
-    ea = e12;
-    eb = -e01;
-  } else if (l01 >= l12 && l01 >= l20) {  // k = 2: the longest edge is v0 v1
+  else if (k == 2u)
     p = c3;
-    ea = e20;
-    eb = -e12;
-  }
-  // Each component of the cross product by diff_of_products: for a sliver (edges nearly
-  // parallel or antiparallel) the plain products cancel, and their rounding tilted n by up to
-  // u / sin(angle) in any direction, 1e-4 rad for an aspect of 1e-4: a ray leaving such a
-  // sliver 3.7e-6 above its plane hit it again 1e-4 farther along (BvhVsEmbree.RaysLeavingA
-  // SurfaceNeverHitIt). Rounded once per component, n keeps only the edges' own rounding,
-  // which tilts it about the sliver's own axis.
-  float3 n = make_float3(diff_of_products(ea.y, eb.z, ea.z, eb.y), diff_of_products(ea.z, eb.x, ea.x, eb.z),
-                         diff_of_products(ea.x, eb.y, ea.y, eb.x));
   lfloat3 nl = l3_bcast(n);
   lfloat dn = s.sx * l3_get(nl, s.kx) + s.sy * l3_get(nl, s.ky) + l3_get(nl, s.kz);
   lfloat t = (p.x * n.x + p.y * n.y + p.z * n.z) * s.sz / dn;

@@ -153,9 +153,9 @@ AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_node
       int count = (packed & 7) + 1;
       int entered = 0;
       for (int i = first; i < first + count; ++i) {
-        float4 p0 = tris[i * 3 + 0];
-        float4 p1 = tris[i * 3 + 1];
-        float4 p2 = tris[i * 3 + 2];
+        float4 p0 = tris[i * AW_LEAF_FLOAT4S + 0];
+        float4 p1 = tris[i * AW_LEAF_FLOAT4S + 1];
+        float4 p2 = tris[i * AW_LEAF_FLOAT4S + 2];
         float t, u, v;
         if (AW_FEAT_INSTANCE && as_uint(p1.w) == AW_LEAF_INSTANCE) {
           // The rest of this leaf waits on the stack, below the instance's own entries.
@@ -182,9 +182,10 @@ AW_FN TriangleHit bvh_intersect_cut(const AW_GLOBAL float4* nodes, uint num_node
           if (any_hit) return hit;
           continue;
         }
+        float4 pl = tris[i * AW_LEAF_FLOAT4S + 3];
         if (intersect_triangle(r.org, r.shear, make_float3(p0.x, p0.y, p0.z),
                                make_float3(p1.x, p1.y, p1.z), make_float3(p2.x, p2.y, p2.z),
-                               t_min, hit.t, &t, &u, &v)) {
+                               make_float3(pl.x, pl.y, pl.z), as_uint(pl.w), t_min, hit.t, &t, &u, &v)) {
           if (cut && !material_opaque_at(*cut, as_uint(p0.w), u, v)) continue;
           hit.t = t;
           hit.u = u;

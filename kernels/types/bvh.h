@@ -36,14 +36,18 @@ typedef struct {
 
 // Leaf triangle, in leaf order: the three vertices as float4 (w of v0 holds the original
 // triangle id as uint bits, the id Embree reports as primID, so hits name the same triangle
-// on both paths). 48 bytes. An analytic sphere takes the same slot: v0 = (centre, id bits),
-// v1 = (radius, 0, 0, AW_LEAF_SPHERE as uint bits; a triangle's v1.w is 0), v2 unused; its id
-// follows the triangles' (kernels/bvh/intersect_sphere.h).
+// on both paths), then the plane intersect_triangle measures t from (triangle_plane in
+// bvh/intersect_triangle.h, computed once by the flattener: the normal n, and in w the corner k
+// it is taken at as uint bits). 64 bytes. An analytic sphere takes the same slot: v0 =
+// (centre, id bits), v1 = (radius, 0, 0, AW_LEAF_SPHERE as uint bits; a triangle's v1.w is 0),
+// v2 and plane unused; its id follows the triangles' (kernels/bvh/intersect_sphere.h).
 typedef struct {
   float v0[4];
   float v1[4];
   float v2[4];
+  float plane[4];
 } LeafTriangle;
+#define AW_LEAF_FLOAT4S 4  // float4s per LeafTriangle: the traversals read tris[i * 4 + k]
 #define AW_LEAF_SPHERE 1u
 // An instance (two-level BVH, docs/bvh-layout.md#instances) takes the same slot in the top-level
 // tree: v0.w = the instance's index in the instance array (uint bits), v1.w = AW_LEAF_INSTANCE;

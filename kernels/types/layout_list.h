@@ -59,4 +59,5 @@ AW_LAYOUT_ENTRY(55, TexBindingGpu, uv_set)
 AW_LAYOUT_ENTRY(56, RenderParams, win_x0)
 AW_LAYOUT_ENTRY(57, RenderParams, sample_start)
 AW_LAYOUT_ENTRY(58, RenderParams, num_materials)
-#define AW_LAYOUT_COUNT 59
+AW_LAYOUT_ENTRY(59, LeafTriangle, plane)
+#define AW_LAYOUT_COUNT 60

@@ -40,12 +40,14 @@ constexpr size_t kEntries = sizeof(kHostLayout) / sizeof(kHostLayout[0]);
 // Fixed by the traversal, which indexes nodes as 8 float4 and leaf triangles as 3 float4
 // (kernels/bvh/traverse.h): these sizes are part of the layout, not an accident of it.
 static_assert(sizeof(BvhNode) == 128, "BvhNode is 8 float4 (kernels/bvh/traverse.h reads node * 8 + k)");
-static_assert(sizeof(LeafTriangle) == 48, "LeafTriangle is 3 float4 (traverse.h reads i * 3 + k)");
+static_assert(sizeof(LeafTriangle) == 16 * AW_LEAF_FLOAT4S && AW_LEAF_FLOAT4S == 4,
+              "LeafTriangle is 4 float4 (traverse.h reads i * AW_LEAF_FLOAT4S + k)");
 static_assert(offsetof(BvhNode, lo_x) == 0 && offsetof(BvhNode, hi_x) == 16 && offsetof(BvhNode, lo_y) == 32 &&
                   offsetof(BvhNode, hi_y) == 48 && offsetof(BvhNode, lo_z) == 64 && offsetof(BvhNode, hi_z) == 80,
               "the box rows are the node's float4 0..5");
 static_assert(offsetof(BvhNode, child) == 96, "the child indices are the node's 7th float4");
-static_assert(offsetof(LeafTriangle, v1) == 16 && offsetof(LeafTriangle, v2) == 32, "one vertex per float4");
+static_assert(offsetof(LeafTriangle, v1) == 16 && offsetof(LeafTriangle, v2) == 32 && offsetof(LeafTriangle, plane) == 48,
+              "one vertex per float4, then the plane");
 static_assert(sizeof(TriangleInfo) == 16, "TriangleInfo is one uint4");
 static_assert(sizeof(VertexData) == 64, "VertexData: p, n, uv + pad, t as four float4");
 static_assert(offsetof(VertexData, t) == 48, "the tangent is the 4th float4 of a vertex");
