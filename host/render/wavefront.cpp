@@ -75,13 +75,15 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // the Cornell box at 1024x1024, 64 spp rendered at 143 Msamples/s with 2^20 paths against 88
 // with 2^18; every stage ran 1.6-3.4x more items per second, a 2^18 pool leaving most of the
 // GPU's 270k resident threads without work. The image does not depend on it.
+bool intel_runtime(const DeviceInfo& d) { return d.platform.find("Intel") != std::string::npos; }
+
 uint32_t default_pool_size(const DeviceInfo& device) {
   if (const char* e = std::getenv("ARCHWAVE_POOL")) {
     long v = std::strtol(e, nullptr, 10);
     if (v >= long(kWorkGroup)) return uint32_t(v);
   }
   if (device.type == "GPU") return 1u << 20;
-  return device.platform.find("Intel") != std::string::npos ? 1u << 16 : 1u << 18;
+  return intel_runtime(device) ? 1u << 16 : 1u << 18;
 }
 
 template <class T>
@@ -343,7 +345,7 @@ class Wavefront {
   }
 
   static LaneTraversalLimit lane_traversal_limit(const DeviceInfo& d) {
-    if (d.platform.find("Intel") != std::string::npos) return {8192, 1024};
+    if (intel_runtime(d)) return {8192, 1024};
     return {32, 32};
   }
 

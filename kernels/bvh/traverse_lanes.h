@@ -135,13 +135,13 @@ AW_FN TriangleHit bvh_intersect_lanes(const AW_GLOBAL float4* nodes, uint num_no
         float4 p0 = tris[i * AW_LEAF_FLOAT4S + 0];
         float4 p1 = tris[i * AW_LEAF_FLOAT4S + 1];
         float4 p2 = tris[i * AW_LEAF_FLOAT4S + 2];
+        float4 pl = tris[i * AW_LEAF_FLOAT4S + 3];
         lfloat t, u = (lfloat)(0.0f), v = (lfloat)(0.0f);
         lmask h;
         if (AW_FEAT_SPHERE && as_uint(p1.w) == AW_LEAF_SPHERE)
           h = intersect_sphere(org, dir, p0.xyz, p1.x, t_min, hit.t, &t);
         else
-          h = intersect_triangle(org, shear, p0.xyz, p1.xyz, p2.xyz, tris[i * AW_LEAF_FLOAT4S + 3].xyz,
-                                 as_uint(tris[i * AW_LEAF_FLOAT4S + 3].w), t_min, hit.t, &t, &u, &v);
+          h = intersect_triangle(org, shear, p0.xyz, p1.xyz, p2.xyz, pl.xyz, as_uint(pl.w), t_min, hit.t, &t, &u, &v);
         h = h && act;
         hit.t = L_SEL(h, t, hit.t);
         hit.u = L_SEL(h, u, hit.u);

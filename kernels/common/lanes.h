@@ -38,6 +38,8 @@
 #define AW_LCAT_(a, b) a##b
 #define AW_LCAT(a, b) AW_LCAT_(a, b)
 
+// Tables of at most this many entries are read by selects on lanes (L_TABLE).
+#define AW_SMALL_TABLE 4u
 #if AW_LANES == 1
 typedef float lfloat;
 typedef uint luint;
@@ -60,6 +62,7 @@ typedef float3 lfloat3;
 #define L_LOAD(p, i) ((p)[i])
 #define L_STORE(v, p, i) ((p)[i] = (v))
 #define L_GATHER(T, base, i, field) ((base)[i].field)
+#define L_TABLE(T, base, n, i, field) ((base)[i].field)
 #define L_GATHER_V(T, base, i) ((base)[i])
 #elif AW_DEVICE && (AW_LANES == 8 || AW_LANES == 16)
 typedef AW_LCAT(float, AW_LANES) lfloat;
@@ -112,6 +115,24 @@ AW_FN lfloat3 make_lfloat3(lfloat x, lfloat y, lfloat z) {
                      (base)[(i).s8].field, (base)[(i).s9].field, (base)[(i).sa].field, (base)[(i).sb].field, \
                      (base)[(i).sc].field, (base)[(i).sd].field, (base)[(i).se].field, (base)[(i).sf].field))
 #endif
+// Field `field` of table entry i of each lane, from a table of n entries (the scene's lights,
+// its materials): a table of at most AW_SMALL_TABLE entries is read as one broadcast per entry
+// and a select per lane (i == j), not gathered: a gather is W scalar loads and W - 1 inserts,
+// and the light's 19 fields alone were about a fifth of the diffuse shading stage's
+// instructions on a scene of two lights (docs/performance.md, "Small light and material tables
+// on lanes"). A GNU statement expression (clang's OpenCL C has them; only lane programs see it).
+#define L_TABLE(T, base, n, i, field)                                                              \
+  ({                                                                                               \
+    AW_LCAT(T, AW_LANES) l_table_r_;                                                               \
+    if ((n) <= AW_SMALL_TABLE) {                                                                   \
+      l_table_r_ = (AW_LCAT(T, AW_LANES))((base)[0].field);                                        \
+      for (uint l_table_j_ = 1u; l_table_j_ < (n); ++l_table_j_)                                   \
+        l_table_r_ = L_SEL((i) == (luint)(l_table_j_), (AW_LCAT(T, AW_LANES))((base)[l_table_j_].field), l_table_r_); \
+    } else {                                                                                       \
+      l_table_r_ = L_GATHER(T, base, i, field);                                                    \
+    }                                                                                              \
+    l_table_r_;                                                                                    \
+  })
 // Entry i of each lane of a table of plain values (T: float or uint), one load per lane.
 #if AW_LANES == 8
 #define L_GATHER_V(T, base, i)                                                                       \

@@ -75,32 +75,32 @@ static inline void appends_record(LaneAppends* a, __global uint* tags, uint b, u
   L_STORE(L_SEL(tagged, q, L_LOAD(tags + slot0, 0)), tags + slot0, 0);
 }
 
-// The lanes of m as the bits of a uint (lane k: bit k), by an OR over halves of the vector.
-static inline uint lane_bits(lmask m) {
+// The OR of a vector's lanes, by halves.
+static inline uint lanes_or(luint v) {
 #if AW_LANES == 16
-  uint16 v = as_uint16(m) & (uint16)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u, 256u, 512u, 1024u, 2048u, 4096u, 8192u,
-                                     16384u, 32768u);
   uint8 h = v.lo | v.hi;
 #else
-  uint8 h = as_uint8(m) & (uint8)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u);
+  uint8 h = v;
 #endif
   uint4 f = h.lo | h.hi;
   uint2 t = f.lo | f.hi;
   return t.x | t.y;
 }
 
+// The lanes of m as the bits of a uint (lane k: bit k).
+static inline uint lane_bits(lmask m) {
+#if AW_LANES == 16
+  return lanes_or(as_uint16(m) & (uint16)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u, 256u, 512u, 1024u, 2048u, 4096u,
+                                          8192u, 16384u, 32768u));
+#else
+  return lanes_or(as_uint8(m) & (uint8)(1u, 2u, 4u, 8u, 16u, 32u, 64u, 128u));
+#endif
+}
+
 // The queues a block's lanes name (listed: q < AW_Q_COUNT) as the bits of a uint.
 typedef char aw_queues_fit_a_uint[AW_Q_COUNT <= 32 ? 1 : -1];
 static inline uint queues_named(luint q) {
-  luint bit = L_SEL(q < (luint)(AW_Q_COUNT), (luint)(1u) << (q & (luint)(31u)), (luint)(0u));
-#if AW_LANES == 16
-  uint8 h = bit.lo | bit.hi;
-#else
-  uint8 h = bit;
-#endif
-  uint4 f = h.lo | h.hi;
-  uint2 t = f.lo | f.hi;
-  return t.x | t.y;
+  return lanes_or(L_SEL(q < (luint)(AW_Q_COUNT), (luint)(1u) << (q & (luint)(31u)), (luint)(0u)));
 }
 
 // Why bit masks and not a histogram over the lanes in an array: the array's counters, read and

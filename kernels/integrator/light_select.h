@@ -41,7 +41,7 @@ AW_FN luint light_choose(SceneRef sc, const RenderParams* rp, lfloat3 p, lfloat 
   }
 #endif
   luint li = light_pick(sc.lights, rp->num_lights, u);
-  *select_pmf = light_select_pdf(sc.lights, rp->num_lights, li);
+  *select_pmf = L_TABLE(float, sc.lights, rp->num_lights, li, select_pdf);
   return li;
 }
 
@@ -51,7 +51,7 @@ AW_FN lfloat light_select_pmf(SceneRef sc, const RenderParams* rp, luint li, lfl
 #if AW_LANES == 1
   if (light_tree_used(rp) && li >= rp->num_infinite) return rp->tree_prob * light_tree_pmf(sc.light_tree, &sc.lights[li], p);
 #endif
-  return light_select_pdf(sc.lights, rp->num_lights, li);
+  return L_TABLE(float, sc.lights, rp->num_lights, li, select_pdf);
 }
 
 // The closest analytic light along a ray (lights_intersect's contract), through the tree's

@@ -45,83 +45,26 @@ typedef struct {
   lfloat3 p, u, v, n, radiance;
 } LightL;
 
-#define AW_LIGHT_F3(lights, i, f) \
-  make_lfloat3(L_GATHER(float, lights, i, f[0]), L_GATHER(float, lights, i, f[1]), L_GATHER(float, lights, i, f[2]))
-// Tables of at most this many lights are read on lanes as one broadcast per light and field and
-// a select per lane (light_load, light_pick), not gathered: a gather is 16 scalar loads and 15
-// inserts, and light_load's 19 fields were about a fifth of the diffuse shading stage's
-// instructions on a scene of two lights (docs/performance.md, "Small light and material tables on lanes").
-#define AW_SMALL_LIGHT_TABLE 4u
-#if AW_LANES > 1
-#define AW_LIGHT_B3(l, f) make_lfloat3((lfloat)((l)->f[0]), (lfloat)((l)->f[1]), (lfloat)((l)->f[2]))
-AW_FN LightL light_broadcast(const AW_GLOBAL LightGpu* g) {
-  LightL l;
-  l.type = (luint)(g->type);
-  l.flags = (luint)(g->flags);
-  l.radius = (lfloat)(g->radius);
-  l.area = (lfloat)(g->area);
-  l.p = AW_LIGHT_B3(g, p);
-  l.u = AW_LIGHT_B3(g, u);
-  l.v = AW_LIGHT_B3(g, v);
-  l.n = AW_LIGHT_B3(g, n);
-  l.radiance = AW_LIGHT_B3(g, radiance);
-  return l;
-}
-#undef AW_LIGHT_B3
-// Per lane: a when m, else b.
-AW_FN LightL light_l_sel(lmask m, LightL a, LightL b) {
-  LightL l;
-  l.type = L_SEL(m, a.type, b.type);
-  l.flags = L_SEL(m, a.flags, b.flags);
-  l.radius = L_SEL(m, a.radius, b.radius);
-  l.area = L_SEL(m, a.area, b.area);
-  l.p = l3_sel(m, a.p, b.p);
-  l.u = l3_sel(m, a.u, b.u);
-  l.v = l3_sel(m, a.v, b.v);
-  l.n = l3_sel(m, a.n, b.n);
-  l.radiance = l3_sel(m, a.radiance, b.radiance);
-  return l;
-}
-#endif
-// `num_lights` is the table's size (RenderParams.num_lights).
+// `num_lights` is the table's size (RenderParams.num_lights): a small table is read by
+// selects (L_TABLE, common/lanes.h).
+#define AW_LIGHT_F3(lights, n, i, f)                                                               \
+  make_lfloat3(L_TABLE(float, lights, n, i, f[0]), L_TABLE(float, lights, n, i, f[1]), \
+               L_TABLE(float, lights, n, i, f[2]))
 AW_FN LightL light_load(const AW_GLOBAL LightGpu* lights, uint num_lights, luint i) {
-#if AW_LANES > 1
-  if (num_lights <= AW_SMALL_LIGHT_TABLE) {
-    LightL l = light_broadcast(&lights[0]);
-    for (uint j = 1u; j < num_lights; ++j) l = light_l_sel(i == (luint)(j), light_broadcast(&lights[j]), l);
-    return l;
-  }
-#else
-  (void)num_lights;
-#endif
+  (void)num_lights;  // (at W = 1 a table entry is one load whatever the table's size)
   LightL l;
-  l.type = L_GATHER(uint, lights, i, type);
-  l.flags = L_GATHER(uint, lights, i, flags);
-  l.radius = L_GATHER(float, lights, i, radius);
-  l.area = L_GATHER(float, lights, i, area);
-  l.p = AW_LIGHT_F3(lights, i, p);
-  l.u = AW_LIGHT_F3(lights, i, u);
-  l.v = AW_LIGHT_F3(lights, i, v);
-  l.n = AW_LIGHT_F3(lights, i, n);
-  l.radiance = AW_LIGHT_F3(lights, i, radiance);
+  l.type = L_TABLE(uint, lights, num_lights, i, type);
+  l.flags = L_TABLE(uint, lights, num_lights, i, flags);
+  l.radius = L_TABLE(float, lights, num_lights, i, radius);
+  l.area = L_TABLE(float, lights, num_lights, i, area);
+  l.p = AW_LIGHT_F3(lights, num_lights, i, p);
+  l.u = AW_LIGHT_F3(lights, num_lights, i, u);
+  l.v = AW_LIGHT_F3(lights, num_lights, i, v);
+  l.n = AW_LIGHT_F3(lights, num_lights, i, n);
+  l.radiance = AW_LIGHT_F3(lights, num_lights, i, radiance);
   return l;
 }
 #undef AW_LIGHT_F3
-
-// Each lane's light's probability of being picked (LightGpu.select_pdf), by selects for a small
-// table as light_load reads one.
-AW_FN lfloat light_select_pdf(const AW_GLOBAL LightGpu* lights, uint num_lights, luint i) {
-#if AW_LANES > 1
-  if (num_lights <= AW_SMALL_LIGHT_TABLE) {
-    lfloat r = (lfloat)(lights[0].select_pdf);
-    for (uint j = 1u; j < num_lights; ++j) r = L_SEL(i == (luint)(j), (lfloat)(lights[j].select_pdf), r);
-    return r;
-  }
-#else
-  (void)num_lights;
-#endif
-  return L_GATHER(float, lights, i, select_pdf);
-}
 
 // Picks a light with probability select_pdf (proportional to emitted power) in O(1), whatever
 // the number of lights: Walker's alias method (Walker 1977, "An efficient method for generating
@@ -133,19 +76,7 @@ AW_FN luint light_pick(const AW_GLOBAL LightGpu* lights, uint num_lights, lfloat
   lfloat x = u * (float)num_lights;
   luint i = min(L_TO_UINT(x), num_lights - 1u);
   lfloat r = x - L_TO_FLOAT(i);
-#if AW_LANES > 1
-  if (num_lights <= AW_SMALL_LIGHT_TABLE) {  // as light_load: selects, not gathers
-    lfloat q = (lfloat)(lights[0].alias_q);
-    luint alias = (luint)(lights[0].alias);
-    for (uint j = 1u; j < num_lights; ++j) {
-      lmask m = i == (luint)(j);
-      q = L_SEL(m, (lfloat)(lights[j].alias_q), q);
-      alias = L_SEL(m, (luint)(lights[j].alias), alias);
-    }
-    return L_SEL(r < q, i, alias);
-  }
-#endif
-  return L_SEL(r < L_GATHER(float, lights, i, alias_q), i, L_GATHER(uint, lights, i, alias));
+  return L_SEL(r < L_TABLE(float, lights, num_lights, i, alias_q), i, L_TABLE(uint, lights, num_lights, i, alias));
 }
 
 // Light-type tests below are written `AW_FEAT_LIGHT_X && type == X`: in a specialised build

@@ -16,11 +16,8 @@
 // scene's, or the slot's textured copy: integrator/shading_material.h); at W > 1 each lane's
 // material in a table, its fields gathered per lane. Code on lanes reads fields with MAT_F
 // (float) and MAT_U (uint); at W = 1 these are m->field.
-// On lanes a table of at most AW_SMALL_MATERIAL_TABLE materials is read as one broadcast per
-// material and a select per lane (i == j), not gathered (16 scalar loads and 15 inserts per
-// field), as a small light table is (lights/lights.h, AW_SMALL_LIGHT_TABLE; docs/performance.md,
-// "Small light and material tables on lanes").
-#define AW_SMALL_MATERIAL_TABLE 4u
+// On lanes a table of at most AW_SMALL_TABLE materials is read by selects, not gathered
+// (L_TABLE, common/lanes.h).
 #if AW_LANES == 1
 typedef const AW_GLOBAL MaterialGpu* MatL;
 #define MAT_F(m, field) ((m)->field)
@@ -31,21 +28,8 @@ typedef struct {
   uint n;  // the table's size (RenderParams.num_materials)
   luint i;
 } MatL;
-// A GNU statement expression (clang's OpenCL C has them; only lane programs see it).
-#define AW_MAT_LANES(T, m, field)                                                                    \
-  ({                                                                                                 \
-    AW_LCAT(T, AW_LANES) mat_r_;                                                                     \
-    if ((m).n <= AW_SMALL_MATERIAL_TABLE) {                                                          \
-      mat_r_ = (AW_LCAT(T, AW_LANES))((m).table[0].field);                                           \
-      for (uint mat_j_ = 1u; mat_j_ < (m).n; ++mat_j_)                                               \
-        mat_r_ = L_SEL((m).i == (luint)(mat_j_), (AW_LCAT(T, AW_LANES))((m).table[mat_j_].field), mat_r_); \
-    } else {                                                                                         \
-      mat_r_ = L_GATHER(T, (m).table, (m).i, field);                                                 \
-    }                                                                                                \
-    mat_r_;                                                                                          \
-  })
-#define MAT_F(m, field) AW_MAT_LANES(float, m, field)
-#define MAT_U(m, field) AW_MAT_LANES(uint, m, field)
+#define MAT_F(m, field) L_TABLE(float, (m).table, (m).n, (m).i, field)
+#define MAT_U(m, field) L_TABLE(uint, (m).table, (m).n, (m).i, field)
 #endif
 #define MAT_F3(m, field) make_lfloat3(MAT_F(m, field[0]), MAT_F(m, field[1]), MAT_F(m, field[2]))
 

@@ -240,7 +240,7 @@ std::vector<LightGpu> lane_test_lights(std::mt19937& rng) {
 // every output bit equal. Lanes of a block mostly hold different light types (so each type's
 // branch runs with the others' lanes masked off); one block in three has one light (so the
 // branches taken when every lane agrees run too). Run on the whole table (more lights than
-// AW_SMALL_LIGHT_TABLE: every field gathered per lane) and on a table of three (each field a
+// AW_SMALL_TABLE: every field gathered per lane) and on a table of three (each field a
 // broadcast per light and a select per lane, lights/lights.h).
 void check_lights_on_lanes(const std::vector<LightGpu>& lights, std::mt19937& rng) {
   const uint32_t n = 8192;
@@ -298,7 +298,7 @@ void check_lights_on_lanes(const std::vector<LightGpu>& lights, std::mt19937& rn
 TEST(LightLanes, SixteenPathsPerWorkItemEqualTheHostBitForBit) {
   std::mt19937 rng(51205);
   const std::vector<LightGpu> lights = lane_test_lights(rng);
-  ASSERT_GT(lights.size(), size_t(AW_SMALL_LIGHT_TABLE));  // the gathered form
+  ASSERT_GT(lights.size(), size_t(AW_SMALL_TABLE));  // the gathered form
   check_lights_on_lanes(lights, rng);
 }
 
@@ -310,7 +310,7 @@ TEST(LightLanes, ASmallTableEqualsTheHostBitForBit) {
         (l.type == AW_LIGHT_POINT && lights.size() == 2))
       lights.push_back(l);
   ASSERT_EQ(lights.size(), 3u);
-  ASSERT_LE(lights.size(), size_t(AW_SMALL_LIGHT_TABLE));  // the broadcast form
+  ASSERT_LE(lights.size(), size_t(AW_SMALL_TABLE));  // the broadcast form
   std::uniform_int_distribution<uint32_t> pick(0, 2);
   for (LightGpu& l : lights) l.alias = pick(rng);  // aliases within the table
   check_lights_on_lanes(lights, rng);

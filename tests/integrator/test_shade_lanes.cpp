@@ -245,11 +245,11 @@ TEST(ShadeLanes, DiffuseStageEqualsTheHostBitForBit) {
     for (uint32_t k = 0; k < nu; ++k) std::memcpy(&in[(nf + k) * n + i], &u[k], 4);
     in[nstate * n + i] = i % 7 == 3 ? 0.0f : 1.0f;
   }
-  // The whole table (more than AW_SMALL_MATERIAL_TABLE: each field gathered per lane), and
+  // The whole table (more than AW_SMALL_TABLE: each field gathered per lane), and
   // its first four with the lanes' indices folded onto them (a broadcast and a select per field).
   const std::vector<float> in_all = in;
   const std::vector<MaterialGpu> mats_all = mats;
-  for (uint32_t nm : {uint32_t(mats_all.size()), AW_SMALL_MATERIAL_TABLE})
+  for (uint32_t nm : {uint32_t(mats_all.size()), AW_SMALL_TABLE})
   for (uint32_t gi : {1u, 0u}) {
     mats.assign(mats_all.begin(), mats_all.begin() + nm);
     in = in_all;
@@ -454,7 +454,7 @@ TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
   rp.num_infinite = 1u;
   rp.has_mesh_lights = 1u;
   rp.env_radiance[0] = 0.1f, rp.env_radiance[1] = 0.2f, rp.env_radiance[2] = 0.3f;
-  rp.num_materials = uint32_t(mats.size());  // above AW_SMALL_MATERIAL_TABLE: gathered (ShadeLanes has both forms)
+  rp.num_materials = uint32_t(mats.size());  // above AW_SMALL_TABLE: gathered (ShadeLanes has both forms)
   std::vector<float> dev = aw::lobe_test::run_device_probe(
       "tests/probe_lanes.cl", "probe_classify_lanes", in, nstate + 1, n,
       {{tris.data(), tris.size() * sizeof(TriangleInfo)},
