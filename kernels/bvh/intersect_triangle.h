@@ -12,9 +12,26 @@
 #include "common/lanes.h"
 
 // Per-ray constants of the shear transform (Sec. 3, Fig. 2).
+//
+// On lanes (W > 1) the permutation (kx, ky, kz) differs per lane, and l3_get is two selects
+// per coordinate; the compiler kept their masks as bytes across the leaf loop and expanded
+// them again before every select (Intel's runtime on AVX2: the triangle test's main block
+// was 261 instructions per 16 lanes, 187 with the rows below). So the lanes also carry the
+// shear as rows, for dot products with a vertex d (relative to the origin) or a normal n:
+//   rx: 1 at kx, -sx at kz, 0 else   d . rx = d_kx - sx d_kz   (the sheared x)
+//   ry: 1 at ky, -sy at kz, 0 else   d . ry = d_ky - sy d_kz   (the sheared y)
+//   dxy: sx at kx, sy at ky, 0 else  n . dxy = sx n_kx + sy n_ky
+//   ez: 1 at kz, 0 else              n . ez = n_kz
+// Each dot has at most two nonzero terms; with contraction off (common/compat.h) 1 x a,
+// a + 0 and the order of two terms are exact, so each rounds as the W = 1 expression beside
+// it does, bit for bit, but for the sign of an exact zero (the lane-against-one-path tests
+// compare whole films bit for bit: tests/render/test_lanes.cpp).
 typedef struct {
   lint kx, ky, kz;
   lfloat sx, sy, sz;
+#if AW_LANES > 1
+  lfloat3 rx, ry, dxy, ez;
+#endif
 } RayShear;
 
 // a b - c d with an error of at most 1.5 ulps of the result, however much the products cancel
@@ -26,6 +43,15 @@ AW_FN float diff_of_products(float a, float b, float c, float d) {
   float err = fma(-c, d, cd);  // cd - c d exactly
   return fma(a, b, -cd) + err;
 }
+
+#if AW_LANES > 1
+// The 3-vector with a at component i, b at component j (i != j, or b = a) and 0 else, per lane.
+AW_FN lfloat3 shear_row(lint i, lfloat a, lint j, lfloat b) {
+  const lfloat zero = (lfloat)(0.0f);
+  return make_lfloat3(L_SEL(i == 0, a, L_SEL(j == 0, b, zero)), L_SEL(i == 1, a, L_SEL(j == 1, b, zero)),
+                      L_SEL(i == 2, a, L_SEL(j == 2, b, zero)));
+}
+#endif
 
 AW_FN RayShear ray_shear_make(lfloat3 dir) {
   RayShear s;
@@ -43,6 +69,12 @@ AW_FN RayShear ray_shear_make(lfloat3 dir) {
   s.sx = l3_get(dir, s.kx) / dz;
   s.sy = l3_get(dir, s.ky) / dz;
   s.sz = 1.0f / dz;
+#if AW_LANES > 1
+  s.rx = shear_row(s.kx, (lfloat)(1.0f), s.kz, -s.sx);
+  s.ry = shear_row(s.ky, (lfloat)(1.0f), s.kz, -s.sy);
+  s.dxy = shear_row(s.kx, s.sx, s.ky, s.sy);
+  s.ez = shear_row(s.kz, (lfloat)(1.0f), s.kz, (lfloat)(1.0f));
+#endif
   return s;
 }
 
@@ -103,9 +135,15 @@ AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, fl
                                lfloat t_min, lfloat t_max, lfloat* t_out, lfloat* u_out, lfloat* v_out) {
   lfloat3 a3 = l3_sub(l3_bcast(v0), org), b3 = l3_sub(l3_bcast(v1), org), c3 = l3_sub(l3_bcast(v2), org);
   lfloat az = l3_get(a3, s.kz), bz = l3_get(b3, s.kz), cz = l3_get(c3, s.kz);
+#if AW_LANES > 1  // the rows of RayShear: the same numbers without a select per lane
+  lfloat ax = l3_dot(a3, s.rx), ay = l3_dot(a3, s.ry);
+  lfloat bx = l3_dot(b3, s.rx), by = l3_dot(b3, s.ry);
+  lfloat cx = l3_dot(c3, s.rx), cy = l3_dot(c3, s.ry);
+#else
   lfloat ax = l3_get(a3, s.kx) - s.sx * az, ay = l3_get(a3, s.ky) - s.sy * az;
   lfloat bx = l3_get(b3, s.kx) - s.sx * bz, by = l3_get(b3, s.ky) - s.sy * bz;
   lfloat cx = l3_get(c3, s.kx) - s.sx * cz, cy = l3_get(c3, s.ky) - s.sy * cz;
+#endif
   // Scaled barycentrics: 2D edge functions (Sec. 3, Eq. 4).
   lfloat U = cx * by - cy * bx;
   lfloat V = ax * cy - ay * cx;
@@ -136,7 +174,11 @@ AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, fl
   else if (k == 2u)
     p = c3;
   lfloat3 nl = l3_bcast(n);
+#if AW_LANES > 1
+  lfloat dn = l3_dot(nl, s.dxy) + l3_dot(nl, s.ez);
+#else
   lfloat dn = s.sx * l3_get(nl, s.kx) + s.sy * l3_get(nl, s.ky) + l3_get(nl, s.kz);
+#endif
   lfloat t = (p.x * n.x + p.y * n.y + p.z * n.z) * s.sz / dn;
   lmask no_plane = !isfinite(t);
   if (L_ANY(no_plane)) t = L_SEL(no_plane, (U * (s.sz * az) + V * (s.sz * bz) + W * (s.sz * cz)) * inv_det, t);
