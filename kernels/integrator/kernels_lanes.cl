@@ -147,7 +147,7 @@ static inline void appends_flush(const LaneAppends* a, __global uint* counters, 
   uint slot0 = slot_first + (b) * AW_LANES;                   \
   if (slot0 + AW_LANES > rp.pool_size) break;                 \
   PathRef ps = AW_STAGE_PATH(slot0);                          \
-  ps.live = (lanes);                                          \
+  PS_SET_LIVE(ps, (lanes));                                   \
   if (!L_ANY(ps.live)) continue
 
 // regenerate on lanes: the FREE slots (tag FREE) of a dense launch over the pool. A
@@ -177,7 +177,7 @@ AW_STAGE_KERNEL_SCALAR(kernel_regenerate_lanes) {
   for (uint b = 0u; b < blocks; ++b) {
     AW_LANES_BLOCK(b, L_LOAD(tags + slot0, 0) == (uint)(AW_Q_FREE));
     luint job = (luint)(base) + L_LOAD(rank, b);
-    ps.live = ps.live && job < (luint)(count);
+    PS_KEEP(ps, job < (luint)(count));
     if (!L_ANY(ps.live)) break;
     generate_camera_ray(ps, &rp, (luint)(job_start) + job);
     AW_RECORD_LANES(b, L_SEL(ps.live, (luint)(AW_Q_RAY), (luint)(AW_Q_COUNT)), slot0);

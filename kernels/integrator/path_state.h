@@ -55,6 +55,7 @@ typedef struct {
   uint slot;
 #if AW_LANES > 1
   lmask live;
+  int all_live;  // L_ALL(live), kept beside it (PS_SET_LIVE, PS_KEEP): see ps_store_f
 #endif
 } PathRef;
 #define PS_AOV(ps, i) ((ps).aov[(uint)(i) * (ps).pool + (ps).slot])
@@ -80,14 +81,15 @@ typedef struct {
 #define PS_LIVE(ps) 1
 #define PS_KEEP(ps, m) ((void)0)
 #else
-AW_FN void ps_store_f(AW_GLOBAL float* p, lfloat v, lmask m) { L_STORE(L_SEL(m, v, L_LOAD(p, 0)), p, 0); }
-AW_FN void ps_store_u(AW_GLOBAL uint* p, luint v, lmask m) { L_STORE(L_SEL(m, v, L_LOAD(p, 0)), p, 0); }
+AW_FN void ps_store_f(AW_GLOBAL float* p, lfloat v, lmask m, int all) { L_STORE(all ? v : L_SEL(m, v, L_LOAD(p, 0)), p, 0); }
+AW_FN void ps_store_u(AW_GLOBAL uint* p, luint v, lmask m, int all) { L_STORE(all ? v : L_SEL(m, v, L_LOAD(p, 0)), p, 0); }
 #define PS_LF(ps, name) L_LOAD((ps).sf + (uint)AW_SF_##name * (ps).pool + (ps).slot, 0)
 #define PS_LU(ps, name) L_LOAD((ps).su + (uint)AW_SU_##name * (ps).pool + (ps).slot, 0)
-#define PS_SET_F(ps, name, v) ps_store_f((ps).sf + (uint)AW_SF_##name * (ps).pool + (ps).slot, (v), (ps).live)
-#define PS_SET_U(ps, name, v) ps_store_u((ps).su + (uint)AW_SU_##name * (ps).pool + (ps).slot, (v), (ps).live)
+#define PS_SET_F(ps, name, v) ps_store_f((ps).sf + (uint)AW_SF_##name * (ps).pool + (ps).slot, (v), (ps).live, (ps).all_live)
+#define PS_SET_U(ps, name, v) ps_store_u((ps).su + (uint)AW_SU_##name * (ps).pool + (ps).slot, (v), (ps).live, (ps).all_live)
 #define PS_LIVE(ps) ((ps).live)
-#define PS_KEEP(ps, m) ((ps).live = (ps).live && (m))
+#define PS_SET_LIVE(ps, m) ((ps).live = (m), (ps).all_live = L_ALL((ps).live))
+#define PS_KEEP(ps, m) PS_SET_LIVE(ps, (ps).live && (m))
 #endif
 
 AW_FN lfloat3 ps_ray_origin(PathRef ps) { return make_lfloat3(PS_LF(ps, ray_ox), PS_LF(ps, ray_oy), PS_LF(ps, ray_oz)); }

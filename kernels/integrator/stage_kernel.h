@@ -56,7 +56,7 @@ static inline PathRef path_ref_make(__global float* sf, __global uint* su, __glo
   ps.pool = pool;
   ps.slot = slot;
 #if AW_LANES > 1
-  ps.live = (lmask)(-1);  // the slots slot .. slot + W - 1; the stage narrows it
+  PS_SET_LIVE(ps, (lmask)(-1));  // the slots slot .. slot + W - 1; the stage narrows it
 #endif
   return ps;
 }

@@ -183,7 +183,7 @@ static PathRef probe_state_lanes(uint n, __global const float* in, __global floa
   ps.aov = 0;
   ps.pool = n;
   ps.slot = g * AW_LANES;
-  ps.live = live;
+  PS_SET_LIVE(ps, live);
   return ps;
 }
 
@@ -248,7 +248,7 @@ __kernel void probe_pick_light_lanes(uint n, __global const float* in, __global 
   ps.aov = 0;
   ps.pool = n;
   ps.slot = g * AW_LANES;
-  ps.live = (lmask)(-1);
+  PS_SET_LIVE(ps, (lmask)(-1));
   const __global float* pin = in + (uint)AW_SU_COUNT * n;
   lfloat3 p = make_lfloat3(L_LOAD(pin, g), L_LOAD(pin + n, g), L_LOAD(pin + 2u * n, g));
   SceneRef sc;
