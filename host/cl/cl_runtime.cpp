@@ -71,6 +71,7 @@ std::vector<DeviceInfo> list_devices() {
       i.version = d.getInfo<CL_DEVICE_VERSION>();
       i.driver = d.getInfo<CL_DRIVER_VERSION>();
       i.compute_units = d.getInfo<CL_DEVICE_MAX_COMPUTE_UNITS>();
+      i.native_float_width = d.getInfo<CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT>();
       i.global_mem = d.getInfo<CL_DEVICE_GLOBAL_MEM_SIZE>();
       i.max_alloc = d.getInfo<CL_DEVICE_MAX_MEM_ALLOC_SIZE>();
       i.correctly_rounded_divide_sqrt = (d.getInfo<CL_DEVICE_SINGLE_FP_CONFIG>() & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;

@@ -28,6 +28,9 @@ struct DeviceInfo {
   std::string version;
   std::string driver;  // CL_DRIVER_VERSION (what the device-speed cache is keyed on, with the rest)
   unsigned compute_units = 0;
+  // CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT: floats per SIMD register (8 with AVX2, 16 with
+  // AVX-512 on a CPU); what the lane program's narrow stages are built at (wavefront.cpp).
+  unsigned native_float_width = 0;
   uint64_t global_mem = 0;
   uint64_t max_alloc = 0;
   // CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT of CL_DEVICE_SINGLE_FP_CONFIG: the device can divide

@@ -213,6 +213,13 @@ int main(int argc, char** argv) {
                  "this device for a scene of this size; docs/performance.md), on (whenever the scene allows), off")
       ->check(CLI::IsMember({"auto", "on", "off"}))
       ->take_last();
+  std::string narrow_lanes = "auto";
+  app.add_option("--narrow-lanes", narrow_lanes,
+                 "With lanes, paths per work-item of the ray stages and classification: auto (8 on Intel's CPU "
+                 "runtime where a SIMD register holds 8 floats, AVX2; else 16; docs/performance.md), 8 or 16 "
+                 "(the same image bit for bit)")
+      ->check(CLI::IsMember({"auto", "8", "16"}))
+      ->take_last();
   app.add_option("-D,--define", defines,
                  "Set any scene key, e.g. -D render.max_depth=4 -D materials.floor.diffuse.color=[1,0,0]")
       ->take_last()
@@ -440,6 +447,7 @@ int main(int argc, char** argv) {
     opts.generic_kernels = generic;
     opts.lanes = !no_lanes;
     opts.lane_traversal = lane_traversal == "on" ? 1 : lane_traversal == "off" ? 0 : -1;
+    opts.narrow_lanes = narrow_lanes == "auto" ? 0 : std::stoi(narrow_lanes);
     opts.threads = threads;
     opts.kernel_dir = kernel_dir;
     opts.progress = !no_progress && aw::stderr_is_terminal();

@@ -48,6 +48,9 @@ struct RenderOptions {
   // -1: where it was measured to pay on this device for a scene of this size (wavefront.cpp,
   // lane_traversal_limit); 1: whenever the scene allows it; 0: never.
   int lane_traversal = -1;
+  // With lanes: paths per work-item of the ray stages and classification (8 or 16); 0: the
+  // device's choice (wavefront.cpp, narrow_lane_width). The other lane stages run 16.
+  int narrow_lanes = 0;
   std::vector<std::string> force_off;  // feature names to compile out anyway (tests of the guard)
   const std::atomic<bool>* cancel = nullptr;  // set asynchronously (SIGINT): stop, keep what is done
   // Parts of a frame (docs/production.md). The film covers `window` (empty: the whole frame)
@@ -156,6 +159,11 @@ class RenderDeviceError : public ClError {
 // CL_OUT_OF_RESOURCES, "lost:N" also fails every OpenCL call after it, as a lost device does)
 // injects such an error.
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts);
+
+// Paths per work-item of the lane program's ray stages and classification on `device`:
+// RenderOptions::narrow_lanes when it is 8 or 16, else (0) 8 on Intel's CPU runtime where a
+// SIMD register holds 8 floats, 16 otherwise. Throws std::invalid_argument for any other value.
+uint32_t narrow_lane_width(const DeviceInfo& device, int narrow_lanes);
 
 // Both renderers' start: sets res's film (window, sample range, scene_hash; acc and count
 // empty or the resumed film's) from the scene, the options and the scene's parameters, and

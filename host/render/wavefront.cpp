@@ -43,15 +43,17 @@ namespace {
 // stages do not care.
 constexpr uint32_t kWorkGroup = 256;
 constexpr uint32_t kLanes = 16;  // paths per vector of the lane program (kernels_lanes.cl, -DAW_LANES)
-// Blocks of kLanes slots per work-item of the lane program (kernels_lanes.cl, -DAW_LANE_BLOCKS):
-// its appends are one atomic per queue per work-item, and four blocks share them.
-constexpr uint32_t kLaneBlocks = 4;
-static_assert(kWorkGroup % (kLanes * kLaneBlocks) == 0, "the pool, a multiple of the group, is whole work-items of the lane program");
+// Slots per work-item of a lane program: kLaneSpan / W blocks of W (kernels_lanes.cl,
+// -DAW_LANE_BLOCKS), whose appends are one atomic per queue per work-item: four blocks of 16,
+// or eight of 8 in the narrow program (narrow_lane_width), so that every lane kernel covers the
+// pool with pool / kLaneSpan work-items.
+constexpr uint32_t kLaneSpan = 64;
+static_assert(kWorkGroup % kLaneSpan == 0, "the pool, a multiple of the group, is whole work-items of the lane program");
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 // regenerate's lane form runs over the whole pool whatever its count, while its queue form
 // costs per path (52 and 57 ns on Intel's runtime and PoCL, the state written a cache line per
 // word per path). With one block per work-item the lane form cost 4.0-4.4 ms a launch and
-// paid from a third of the pool; with four (kLaneBlocks: a quarter of the atomics) it pays
+// paid from a third of the pool; with four (kLaneSpan: a quarter of the atomics) it pays
 // from less than a tenth (Cornell box, stage seconds on Intel's runtime: 0.083 at a third,
 // 0.058-0.061 at 0.2, 0.15 and 0.1; PoCL 0.098-0.103 at a third, 0.071-0.075 at 0.15),
 // and 0.15 keeps a margin for the launches near the end of a batch (docs/performance.md,
@@ -76,6 +78,7 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // with 2^18; every stage ran 1.6-3.4x more items per second, a 2^18 pool leaving most of the
 // GPU's 270k resident threads without work. The image does not depend on it.
 bool intel_runtime(const DeviceInfo& d) { return d.platform.find("Intel") != std::string::npos; }
+
 
 uint32_t default_pool_size(const DeviceInfo& device) {
   if (const char* e = std::getenv("ARCHWAVE_POOL")) {
@@ -375,7 +378,13 @@ class Wavefront {
       return;
     }
     std::string src = assemble_kernel_source("integrator/kernels_lanes.cl", opts_.kernel_dir);
-    lanes_program_ = rt_.build(src, options + " -DAW_LANES=" + std::to_string(kLanes) + " -DAW_LANE_BLOCKS=" + std::to_string(kLaneBlocks), &st_.compile_seconds);
+    auto build_at = [&](uint32_t w) {
+      return rt_.build(src, options + " -DAW_LANES=" + std::to_string(w) + " -DAW_LANE_BLOCKS=" + std::to_string(kLaneSpan / w),
+                       &st_.compile_seconds);
+    };
+    lanes_program_ = build_at(kLanes);
+    narrow_lanes_ = narrow_lane_width(rt_.info(), opts_.narrow_lanes);
+    narrow_program_ = narrow_lanes_ == kLanes ? lanes_program_ : build_at(narrow_lanes_);
     // classify_hit on lanes leaves out more (kernels/integrator/classify_hit.h): the reflection
     // lobes' sampled split, fog, instances.
     std::string classify_why;
@@ -400,13 +409,20 @@ class Wavefront {
     if (shadow_why.empty() && opts_.lane_traversal < 0 && primitives > limit.shadow) shadow_why = too_many(limit.shadow);
     closest_on_lanes_ = rays_why.empty();
     shadow_on_lanes_ = shadow_why.empty();
-    st_.lanes = std::to_string(kLanes) + " paths per work-item: regenerate";
-    if (closest_on_lanes_) st_.lanes += " intersect_closest";
-    if (classify_on_lanes_) st_.lanes += " classify_hit";
-#define AW_LANES_STAGE_NAME(ID, name, FEATURE, TRAITS) st_.lanes += " shade_" #name;
+    // The stages in pipeline order; with a narrow program, its stages after a "; 8:".
+    std::string narrow;
+    auto name = [&](bool narrow_stage, const char* stage) {
+      (narrow_stage && narrow_lanes_ != kLanes ? narrow : st_.lanes) += std::string(" ") + stage;
+    };
+    st_.lanes = std::to_string(kLanes) + " paths per work-item:";
+    name(false, "regenerate");
+    if (closest_on_lanes_) name(true, "intersect_closest");
+    if (classify_on_lanes_) name(true, "classify_hit");
+#define AW_LANES_STAGE_NAME(ID, name_, FEATURE, TRAITS) name(false, "shade_" #name_);
     AW_LOBE_LIST_ON_LANES(AW_LANES_STAGE_NAME)
 #undef AW_LANES_STAGE_NAME
-    if (shadow_on_lanes_) st_.lanes += " intersect_shadow";
+    if (shadow_on_lanes_) name(true, "intersect_shadow");
+    if (!narrow.empty()) st_.lanes += "; " + std::to_string(narrow_lanes_) + ":" + narrow;
     if (!closest_on_lanes_ && !shadow_on_lanes_ && rays_why == shadow_why)
       st_.lanes += " (the ray stages one path per work-item: " + rays_why + ")";
     else if (!closest_on_lanes_)
@@ -547,13 +563,13 @@ class Wavefront {
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
     if (closest_on_lanes_) {
       Stage& s = stages_[isect_];
-      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_intersect_closest_lanes");
+      s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_intersect_closest_lanes");
       bind_stage_args(s.lanes_kernel, buf_);
     }
     classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
     if (classify_on_lanes_) {
       Stage& s = stages_[classify_];
-      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_classify_hit_lanes");
+      s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_classify_hit_lanes");
       bind_stage_args(s.lanes_kernel, buf_);
     }
     ao_ = add("ambient_occlusion", AW_Q_AO, true, true, features_.on[FeatureSet::AO]);
@@ -572,7 +588,7 @@ class Wavefront {
     shadow_ = add("intersect_shadow", AW_Q_SHADOW, true, false, true);
     if (shadow_on_lanes_) {
       Stage& s = stages_[shadow_];
-      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_intersect_shadow_lanes");
+      s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_intersect_shadow_lanes");
       bind_stage_args(s.lanes_kernel, buf_);
     }
     // regenerate takes part of the free queue, accumulate sees small queues:
@@ -645,9 +661,9 @@ class Wavefront {
     if (dense && s.lanes_kernel() && regen) cnt_[AW_Q_FREE] = 0;
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
-      // The lane form: pool / (kLanes kLaneBlocks) work-items of that many consecutive slots each.
+      // The lane form: pool / kLaneSpan work-items of that many consecutive slots each.
       set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);
-      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / (kLanes * kLaneBlocks))),
+      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / kLaneSpan)),
                                        cl::NDRange(kWorkGroup));
     } else {
       set_launch_args(s, uint32_t(n), dense, job_start);
@@ -759,7 +775,11 @@ class Wavefront {
   FlatBvh bvh_;
   FeatureSet features_;
   cl::Program program_;
-  cl::Program lanes_program_;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
+  cl::Program lanes_program_;
+  // The ray stages' and classification's lane program (narrow_lane_width): lanes_program_
+  // itself where that is 16 lanes too.
+  cl::Program narrow_program_;
+  uint32_t narrow_lanes_ = kLanes;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
   bool classify_on_lanes_ = false;  // its classify_hit too (build_lanes_program)
   bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
   bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
@@ -782,6 +802,22 @@ class Wavefront {
 };
 
 }  // namespace
+
+// Paths per work-item of the stages whose 16-lane form spills most where a SIMD register holds
+// 8 floats (AVX2): the ray stages and classification. Intel's runtime on an AMD EPYC (Zen 3,
+// AVX2; Cornell box, medians of 8 interleaved pairs, everything at 8 lanes against 16):
+// intersect_closest 0.92x, classify_hit 0.84x, intersect_shadow 0.85x the time, but
+// shade_diffuse 1.12x and regenerate 1.29x, so those keep 16; with only these three at 8, at
+// the race's 128x128 and 256 spp: 0.94x, 0.91x, 0.90x, the render 0.96x. PoCL there: 1.01x,
+// 0.97x, 1.02x and shading 1.36x, so it keeps 16 throughout; so does a device with 16 floats
+// per register (AVX-512), where 16 lanes are one register (docs/performance.md, "On an AMD
+// EPYC (AVX2)").
+uint32_t narrow_lane_width(const DeviceInfo& d, int forced) {
+  if (forced != 0 && forced != 8 && forced != 16)
+    throw std::invalid_argument("narrow lane width " + std::to_string(forced) + ": expected 8 or 16 (or 0: the device's choice)");
+  if (forced != 0) return uint32_t(forced);
+  return intel_runtime(d) && d.native_float_width == 8 ? 8u : kLanes;
+}
 
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   auto t_start = Clock::now();

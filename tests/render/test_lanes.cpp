@@ -4,6 +4,7 @@
 // between the work-groups PoCL runs on its threads would show as two different films.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -28,37 +29,50 @@ size_t differing_words(const aw::RenderResult& a, const aw::RenderResult& b) {
 // beside lobes that are not (glass, GGX, lobe splitting: race_spheres, whose reflection keeps
 // classification one path per work-item); every launch of those stages dense (the lane
 // kernels' only form) and the default mix of dense and queue launches; with GI and without.
+//
+// Each case runs with the ray stages and classification at 16 lanes (the lane program's one
+// width) and, where `narrow` is set, at 8 too (a second program, kernels_lanes.cl at
+// -DAW_LANES=8: what Intel's runtime uses where a register holds 8 floats; wavefront.cpp,
+// narrow_lane_width), so that both widths are checked on every device whatever its own choice.
 TEST(Lanes, SameFilmWithAndWithoutLanes) {
   struct Case {
     const char* file;
     std::vector<std::string> defs;
     double dense_fraction;
-    const char* lanes;  // the stats' account of the stages on lanes
+    const char* lanes;  // the stats' account of the stages on lanes, at 16
+    const char* narrow;  // the same with the narrow stages at 8; null: not run at 8
   };
   const char* all = "16 paths per work-item: regenerate intersect_closest classify_hit shade_diffuse intersect_shadow";
+  const char* all8 = "16 paths per work-item: regenerate shade_diffuse; 8: intersect_closest classify_hit intersect_shadow";
   const char* reflective =
       "16 paths per work-item: regenerate intersect_closest shade_diffuse intersect_shadow (classify_hit one path per work-item: "
       "the scene needs reflection)";
+  const char* reflective8 =
+      "16 paths per work-item: regenerate shade_diffuse; 8: intersect_closest intersect_shadow (classify_hit one path per "
+      "work-item: the scene needs reflection)";
   const std::vector<std::string> small = {"render.width=96", "render.height=64", "render.spp=8"};
-  const Case cases[] = {{"scenes/cornell.json", {}, 0.0, all},
-                        {"scenes/cornell.json", {}, -1.0, all},
-                        {"scenes/cornell.json", {"render.gi=false"}, 0.0, all},
-                        {"scenes/cornell.json", {"render.max_depth=2"}, 0.0, all},
-                        {"scenes/bench/race_small_light.json", {}, 0.0, all},
-                        {"scenes/docs/diffuse_roughness_1.json", {}, 0.0, all},
-                        {"scenes/bench/race_spheres.json", {}, 0.0, reflective}};
-  for (const Case& c : cases) {
+  const Case cases[] = {{"scenes/cornell.json", {}, 0.0, all, all8},
+                        {"scenes/cornell.json", {}, -1.0, all, all8},
+                        {"scenes/cornell.json", {"render.gi=false"}, 0.0, all, nullptr},
+                        {"scenes/cornell.json", {"render.max_depth=2"}, 0.0, all, nullptr},
+                        {"scenes/bench/race_small_light.json", {}, 0.0, all, all8},
+                        {"scenes/docs/diffuse_roughness_1.json", {}, 0.0, all, nullptr},
+                        {"scenes/bench/race_spheres.json", {}, 0.0, reflective, reflective8}};
+  for (const Case& c : cases) for (int narrow : {16, 8}) {
+    if (narrow == 8 && !c.narrow) continue;
     std::vector<std::string> defs = small;
     defs.insert(defs.end(), c.defs.begin(), c.defs.end());
     aw::Scene scene = aw::load_scene(aw_test::source_path(c.file), defs);
     aw::RenderOptions on = aw_test::quiet_options(), off = on;
     on.dense_fraction = off.dense_fraction = c.dense_fraction;
     on.lane_traversal = 1;
+    on.narrow_lanes = narrow;
     off.lanes = false;
     aw::RenderResult a = aw::render_wavefront(scene, on), a2 = aw::render_wavefront(scene, on);
     aw::RenderResult b = aw::render_wavefront(scene, off);
-    const std::string what = std::string(c.file) + " (dense fraction " + std::to_string(c.dense_fraction) + ")";
-    EXPECT_EQ(a.stats.lanes, c.lanes) << what;
+    const std::string what = std::string(c.file) + " (dense fraction " + std::to_string(c.dense_fraction) +
+                             ", narrow stages at " + std::to_string(narrow) + " lanes)";
+    EXPECT_EQ(a.stats.lanes, narrow == 8 ? c.narrow : c.lanes) << what;
     EXPECT_EQ(b.stats.lanes, "off (--no-lanes)") << what;
     EXPECT_EQ(differing_words(a, b), 0u) << what << ": lanes against one path per work-item";
     EXPECT_EQ(differing_words(a, a2), 0u) << what << ": two renders with lanes";
@@ -96,6 +110,7 @@ TEST(Lanes, RayStagesOnLanesOnlyWhereTheyPay) {
   aw::Scene knot = aw::load_scene(aw_test::source_path("scenes/knot.json"),
                                   {"render.width=48", "render.height=32", "render.spp=2"});
   aw::RenderOptions opts = aw_test::quiet_options();
+  opts.narrow_lanes = 16;  // the stats' strings below name one width whatever the device's own choice
   aw::RenderResult a = aw::render_wavefront(knot, opts);
   EXPECT_EQ(a.stats.lanes.find(" intersect_closest"), std::string::npos) << a.stats.lanes;
   EXPECT_NE(a.stats.lanes.find("one path per work-item: 24578 primitives, above the"),
@@ -112,6 +127,32 @@ TEST(Lanes, RayStagesOnLanesOnlyWhereTheyPay) {
   EXPECT_EQ(c.stats.lanes,
             "16 paths per work-item: regenerate classify_hit shade_diffuse (the ray stages one path per work-item: "
             "--lane-traversal off)");
+}
+
+// The narrow stages' width (wavefront.cpp, narrow_lane_width): 8 only on Intel's CPU runtime where
+// a SIMD register holds 8 floats (AVX2), where the ray stages and classification were measured
+// faster at 8; 16 on PoCL (level or slower at 8) and with AVX-512; what the option forces, else
+// a clear error.
+TEST(Lanes, NarrowStagesAtEightOnlyWhereMeasuredToPay) {
+  aw::DeviceInfo intel, pocl;
+  intel.platform = "Intel(R) OpenCL";
+  pocl.platform = "Portable Computing Language";
+  intel.native_float_width = pocl.native_float_width = 8;
+  EXPECT_EQ(aw::narrow_lane_width(intel, 0), 8u);
+  EXPECT_EQ(aw::narrow_lane_width(pocl, 0), 16u);
+  EXPECT_EQ(aw::narrow_lane_width(intel, 16), 16u);
+  EXPECT_EQ(aw::narrow_lane_width(pocl, 8), 8u);
+  intel.native_float_width = pocl.native_float_width = 16;
+  EXPECT_EQ(aw::narrow_lane_width(intel, 0), 16u);
+  EXPECT_EQ(aw::narrow_lane_width(pocl, 0), 16u);
+  for (int bad : {1, 4, 32, -1}) {
+    try {
+      aw::narrow_lane_width(intel, bad);
+      ADD_FAILURE() << bad << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("expected 8 or 16"), std::string::npos) << e.what();
+    }
+  }
 }
 
 // What the lane program leaves out keeps the scene on the one-path kernels, and the stats say why.
