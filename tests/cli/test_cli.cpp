@@ -133,6 +133,15 @@ TEST(CliBadInput, BadDenseFractionIsAUsageErrorNamingTheFlag) {
   }
 }
 
+TEST(CliBadInput, BadNarrowLanesIsAUsageErrorNamingTheFlag) {
+  std::string scene = write_scene("ok.json", kMinimal);
+  for (const char* value : {"4", "32", "wide"}) {
+    CliRun r = run(scene + " -o " + scratch() + "/x.exr --narrow-lanes " + value);
+    EXPECT_EQ(r.code, 2) << value << ": " << r.err;
+    EXPECT_NE(r.err.find("--narrow-lanes"), std::string::npos) << value << ": " << r.err;
+  }
+}
+
 TEST(CliBadInput, BadDeviceIndexListsDevices) {
   std::string scene = write_scene("ok.json", kMinimal);
   CliRun r = run(scene + " --device 99 -o " + scratch() + "/x.exr");
@@ -184,7 +193,8 @@ TEST(Cli, HelpDocumentsEveryFlag) {
   std::string help((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   for (const char* flag : {"--output", "--spp", "--seed", "--width", "--height", "--device", "--scalar",
                            "--list-devices", "--define", "--kernels", "--pool", "--quiet", "--generic-kernels",
-                           "--stats-json", "--dense-fraction", "--measure-devices"})
+                           "--stats-json", "--dense-fraction", "--measure-devices", "--no-lanes", "--lane-traversal",
+                           "--narrow-lanes"})
     EXPECT_NE(help.find(flag), std::string::npos) << flag;
 }
 
