@@ -68,7 +68,11 @@ typedef struct {
 // At W = 1 these are PS_F/PS_U. At W > 1 a read is one vector load of the W slots' words
 // (fields are field-major, so the block's words are consecutive: what bench_lanes measured
 // pays), and a write stores the value into the live lanes only, a read-modify-write of the
-// whole vector (the block belongs to one work-item, so no other writes it meanwhile).
+// whole vector (the block belongs to one work-item, so no other writes it meanwhile), or a plain
+// vector store where all W lanes are live (all_live, kept beside live: PS_SET_LIVE, PS_KEEP):
+// Intel's runtime compiled the read-modify-write into a masked store (vmaskmovps), many
+// micro-ops on AMD's Zen 3, where it held 72% of regenerate's samples (docs/performance.md,
+// "On an AMD EPYC (AVX2)").
 // A path that ends or skips the rest of a step leaves `live` (PS_KEEP(ps, m): keep the lanes
 // of m); code that does so must then `if (!L_ANY(m)) return`, which at W = 1, where there
 // is no `live`, is the scalar code's own early return, so that a write is never reached for
