@@ -53,7 +53,7 @@ constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 // regenerate's lane form runs over the whole pool whatever its count, while its queue form
 // costs per path (52 and 57 ns on Intel's runtime and PoCL, the state written a cache line per
 // word per path). With one block per work-item the lane form cost 4.0-4.4 ms a launch and
-// paid from a third of the pool; with four (kLaneSpan: a quarter of the atomics) it pays
+// paid from a third of the pool; with four blocks (kLaneSpan: a quarter of the atomics) it pays
 // from less than a tenth (Cornell box, stage seconds on Intel's runtime: 0.083 at a third,
 // 0.058-0.061 at 0.2, 0.15 and 0.1; PoCL 0.098-0.103 at a third, 0.071-0.075 at 0.15),
 // and 0.15 keeps a margin for the launches near the end of a batch (docs/performance.md,
@@ -78,7 +78,6 @@ double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock:
 // with 2^18; every stage ran 1.6-3.4x more items per second, a 2^18 pool leaving most of the
 // GPU's 270k resident threads without work. The image does not depend on it.
 bool intel_runtime(const DeviceInfo& d) { return d.platform.find("Intel") != std::string::npos; }
-
 
 uint32_t default_pool_size(const DeviceInfo& device) {
   if (const char* e = std::getenv("ARCHWAVE_POOL")) {
@@ -775,11 +774,11 @@ class Wavefront {
   FlatBvh bvh_;
   FeatureSet features_;
   cl::Program program_;
-  cl::Program lanes_program_;
-  // The ray stages' and classification's lane program (narrow_lane_width): lanes_program_
-  // itself where that is 16 lanes too.
+  cl::Program lanes_program_;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
+  // The ray stages' and classification's lane program, at narrow_lanes_ (narrow_lane_width):
+  // lanes_program_ itself where that is 16 lanes too.
   cl::Program narrow_program_;
-  uint32_t narrow_lanes_ = kLanes;  // kernels_lanes.cl, when the device and the scene allow (build_lanes_program)
+  uint32_t narrow_lanes_ = kLanes;
   bool classify_on_lanes_ = false;  // its classify_hit too (build_lanes_program)
   bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
   bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
