@@ -258,20 +258,26 @@ def run_cycles(ctx, scene, ladder, check_seconds, work, geometry):
     return {"cycles": {"points": points, "meta": res}}, (conv, var, total)
 
 
-def run_mitsuba(ctx, scene, ladder, check_seconds, work, geometry):
-    out = os.path.join(work, "mitsuba")
+def _mitsuba_process(ctx, scene, out, geometry, jobs, label):
+    """One Mitsuba 3 process (bench/export_mitsuba.py) rendering `jobs` of `scene` into `out`;
+    its result JSON."""
     result = os.path.join(out, "result.json")
-    jobs = []
-    for sampler in ("multijitter", "independent"):
-        jobs += [f"{sampler}_{spp}:{sampler}:{spp}:{i + 1 + (50 if sampler == 'independent' else 0)}"
-                 for i, spp in enumerate(ladder)]
-    jobs += [f"c{k}:multijitter:fit{check_seconds / 2:g}:{201 + k}" for k in range(2)]
     argv = [mitsuba_python(), EXPORT_MITSUBA, scene.path, "--out", out, "--result", result,
             "--width", str(scene.width), "--height", str(scene.height),
             "--geometry", geometry]
     for j in jobs:
         argv += ["--job", j]
-    res = _peer_process(ctx, argv, mitsuba_env(), result, f"mitsuba {scene.key}")
+    return _peer_process(ctx, argv, mitsuba_env(), result, label)
+
+
+def run_mitsuba(ctx, scene, ladder, check_seconds, work, geometry):
+    out = os.path.join(work, "mitsuba")
+    jobs = []
+    for sampler in ("multijitter", "independent"):
+        jobs += [f"{sampler}_{spp}:{sampler}:{spp}:{i + 1 + (50 if sampler == 'independent' else 0)}"
+                 for i, spp in enumerate(ladder)]
+    jobs += [f"c{k}:multijitter:fit{check_seconds / 2:g}:{201 + k}" for k in range(2)]
+    res = _mitsuba_process(ctx, scene, out, geometry, jobs, f"mitsuba {scene.key}")
     imgs = {j["name"]: dict(j, image=np.load(os.path.join(out, j["name"] + ".npy"))) for j in res["jobs"]}
     rows = {}
     for sampler in ("multijitter", "independent"):
@@ -307,13 +313,10 @@ def run_rates(ctx, scene, spp, device, work, geometry, rounds):
     for k in range(rounds):
         r = ctx.render_scene(scene, f"race_{scene.key}_rate{k}", spp, device=device)
         out["archwave"].append(mega / r.seconds)
-        mdir = os.path.join(work, f"mitsuba_rate{k}")
-        result = os.path.join(mdir, "result.json")
-        argv = [mitsuba_python(), EXPORT_MITSUBA, scene.path, "--out", mdir, "--result", result,
-                "--width", str(scene.width), "--height", str(scene.height), "--geometry", geometry]
-        for i, sampler in enumerate(("multijitter", "independent")):
-            argv += ["--job", f"{sampler}_{spp}:{sampler}:{spp}:{301 + 10 * k + i}"]
-        res = _peer_process(ctx, argv, mitsuba_env(), result, f"mitsuba {scene.key} rate round {k + 1}")
+        jobs = [f"{sampler}_{spp}:{sampler}:{spp}:{301 + 10 * k + i}"
+                for i, sampler in enumerate(("multijitter", "independent"))]
+        res = _mitsuba_process(ctx, scene, os.path.join(work, f"mitsuba_rate{k}"), geometry, jobs,
+                               f"mitsuba {scene.key} rate round {k + 1}")
         for j in res["jobs"]:
             out["mitsuba_" + j["name"].split("_")[0]].append(mega / j["seconds"])
     log("race: samples/s rounds: " + "; ".join(f"{n} " + ", ".join(f"{v:.3g}" for v in vs) for n, vs in out.items()))
@@ -342,6 +345,15 @@ def time_to(points, key, goal):
     return float(math.exp(lt[i] + (lg - le[i]) / slope)), True
 
 
+def _failure(e):
+    """A failed peer run in one line: the message's first line and its stderr's last three."""
+    text = str(e).strip() or type(e).__name__
+    head, _, err = text.partition("\nstderr:\n")
+    tail = [ln.strip() for ln in err.splitlines() if ln.strip()][-3:]
+    return (head.splitlines()[0] + (": " + " / ".join(tail) if tail else "")
+            + " (the command is in commands.log)")[:500]
+
+
 def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, check_seconds, rounds):
     try:
         race_scene.describe(scene.path, scene.width, scene.height)
@@ -365,11 +377,7 @@ def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, che
         try:
             got, (conv, var, total) = runner(ctx, scene, ladder, check_seconds, work, geometry)
         except Exception as e:  # noqa: BLE001 -- a peer that fails is reported, never fatal to the suite
-            text = str(e).strip() or type(e).__name__
-            head, _, err = text.partition("\nstderr:\n")
-            tail = [ln.strip() for ln in err.splitlines() if ln.strip()][-3:]
-            failures[name] = (head.splitlines()[0] + (": " + " / ".join(tail) if tail else "")
-                              + " (the command is in commands.log)")[:500]
+            failures[name] = _failure(e)
             log(f"race: {name} failed on {scene.key}: {failures[name]}")
             continue
         rows.update(got)
@@ -378,14 +386,13 @@ def measure_scene(ctx, scene, peers, ladder, nominal, ref_want, ref_seconds, che
         checks[name] = dict(verdict(regs), spp=total, mean=mean, regions=regs,
                             rmse=errors(conv, aw["ref"])[0])
     rates = None
-    if scene.key == RATE_SCENE and peers.get("mitsuba") is None and "mitsuba" not in failures:
-        if rounds:
-            device = "" if "archwave_default" in rows else None
-            try:
-                rates = run_rates(ctx, scene, ladder[-1], device, work, geometry, rounds)
-            except Exception as e:  # noqa: BLE001 -- as a peer's failure above: reported, not fatal
-                failures["mitsuba (samples/s rounds)"] = (str(e).strip().splitlines() or [type(e).__name__])[0][:500]
-                log(f"race: samples/s rounds failed: {failures['mitsuba (samples/s rounds)']}")
+    if rounds and scene.key == RATE_SCENE and peers.get("mitsuba") is None and "mitsuba" not in failures:
+        device = "" if "archwave_default" in rows else None
+        try:
+            rates = run_rates(ctx, scene, ladder[-1], device, work, geometry, rounds)
+        except Exception as e:  # noqa: BLE001 -- as a peer's failure above: reported, not fatal
+            failures["mitsuba (samples/s rounds)"] = _failure(e)
+            log(f"race: samples/s rounds failed: {failures['mitsuba (samples/s rounds)']}")
     for name, row in rows.items():
         for p in row["points"]:
             p["rmse"], p["relmse"] = errors(p["image"], aw["ref"])
