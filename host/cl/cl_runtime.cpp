@@ -166,7 +166,7 @@ cl::Program ClRuntime::build(const std::string& source, const std::string& reque
   const std::string options = device_build_options(info_, requested);
   auto t0 = std::chrono::steady_clock::now();
   auto done = [&](cl::Program p) {
-    if (seconds) *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (seconds) *seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return p;
   };
   // The compiled program from the disk cache (host/cl/kernel_cache.h), on every device whose

@@ -74,7 +74,8 @@ class ClRuntime {
   cl::CommandQueue& queue() { return queue_; }
 
   // Builds a program from assembled source; on failure throws ClError carrying the build log.
-  // Records the wall time of the build (cold or cached) in *seconds when given.
+  // Adds the wall time of the build (cold or cached) to *seconds when given, so that a caller
+  // building several programs gets their sum.
   // Uses the disk cache of compiled programs (host/cl/kernel_cache.h) where the runtime has
   // none of its own.
   // The device's own options are added (device_build_options).

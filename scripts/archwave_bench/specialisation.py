@@ -142,8 +142,9 @@ def caption(size):
 
 
 BUILD_COST = (
-    "`compile_seconds` in the stats (the build columns above) is the time from `clBuildProgram` "
-    "to the end of archwave's warm-up launches right after it: every stage once on zero items and "
+    "`compile_seconds` in the stats (the build columns above) is the time from assembling the "
+    "kernel sources, through every program the render builds (`clBuildProgram`, or loading a "
+    "cached binary), to the end of archwave's warm-up launches: every stage once on zero items and "
     "once on a large, empty grid, so that work-group functions a device compiles at first launch "
     "(PoCL: one per kernel and local size, and another for launches above about 2^16 items) are "
     "built there and not inside the render time. The cache lives in `POCL_CACHE_DIR` (the "

@@ -41,6 +41,22 @@ TEST(ClRuntime, BuildFailureCarriesTheLogWithFileAndLine) {
   }
 }
 
+// A render builds up to three programs (kernels.cl, and kernels_lanes.cl at two widths), all
+// with the render's compile_seconds: each build adds its time there. When each one overwrote
+// it, the first programs' build (60-90 ms on Intel's runtime from the binary cache) was left
+// in render_seconds and lowered the race's samples/s (docs/performance.md, "Render time
+// without the kernel build").
+TEST(ClRuntime, BuildAddsItsTimeToTheCallersSum) {
+  aw::ClRuntime rt(aw::kDefaultDevice);
+  const std::string src = "__kernel void k(__global float* x) { x[get_global_id(0)] = 1.0f; }\n";
+  double seconds = 1000.0;  // what the caller counted before
+  rt.build(src, "-cl-std=CL1.2", &seconds);
+  const double after_one = seconds;
+  EXPECT_GT(after_one, 1000.0);
+  rt.build(src, "-cl-std=CL1.2 -DSECOND", &seconds);
+  EXPECT_GT(seconds, after_one);
+}
+
 // NVIDIA's OpenCL compiler ignores `#line` (measured on an H200, driver 580: the log said
 // "<kernel>:3:10" for line 2 of kernels/broken.cl). The log then names the raw line, and
 // annotate_build_log adds the file and line it comes from. The log below is that one.
