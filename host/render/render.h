@@ -165,6 +165,11 @@ RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts);
 // SIMD register holds 8 floats, 16 otherwise. Throws std::invalid_argument for any other value.
 uint32_t narrow_lane_width(const DeviceInfo& device, int narrow_lanes);
 
+// Work-items per work-group of the lane programs on `device`: 32 on Intel's CPU runtime, whose
+// threads take whole groups, so that a launch is shared out evenly; 256 (the one-path
+// kernels' size) elsewhere. The image does not depend on it.
+uint32_t lane_work_group(const DeviceInfo& device);
+
 // Both renderers' start: sets res's film (window, sample range, scene_hash; acc and count
 // empty or the resumed film's) from the scene, the options and the scene's parameters, and
 // narrows rp to the window and sample_start. Returns the first sample some pixel lacks.

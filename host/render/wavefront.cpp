@@ -332,11 +332,11 @@ class Wavefront {
     if (!lack.empty())
       throw std::logic_error("the scene has lights or a sampler of a kind the specialised kernels lack (" + lack + "; built: " +
                              st_.kernel_features + "); the image would be wrong, so none is rendered");
-    std::string options = "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " +
-                          (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
-    program_ = rt_.build(src, options);
+    const std::string features = (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
+    program_ = rt_.build(src, "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " + features);
     st_.kernel_build = rt_.last_build();
-    build_lanes_program(need, options);
+    lane_wg_ = lane_work_group(rt_.info());
+    build_lanes_program(need, "-cl-std=CL1.2 -DAW_WG=" + std::to_string(lane_wg_) + " " + features);
   }
 
   // The most primitives (triangles and analytic spheres) for which the ray stages run on lanes
@@ -626,8 +626,8 @@ class Wavefront {
         RenderParams warm = rp_;
         warm.pool_size = 0;
         set_launch_args(s.lanes_kernel, warm, 0, false, 0);
-        for (size_t global : {size_t(kWorkGroup), size_t(1) << 17})
-          rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(kWorkGroup));
+        for (size_t global : {size_t(lane_wg_), size_t(1) << 17})
+          rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(lane_wg_));
       }
     }
     rt_.queue().finish();
@@ -670,10 +670,11 @@ class Wavefront {
     if (dense && s.lanes_kernel() && regen) cnt_[AW_Q_FREE] = 0;
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
-      // The lane form: pool / kLaneSpan work-items of that many consecutive slots each.
+      // The lane form: pool / kLaneSpan work-items of that many consecutive slots each, in
+      // groups of lane_wg_ (lane_work_group).
       set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);
-      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / kLaneSpan)),
-                                       cl::NDRange(kWorkGroup));
+      const size_t items = (pool_ / kLaneSpan + lane_wg_ - 1) / lane_wg_ * lane_wg_;
+      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(items), cl::NDRange(lane_wg_));
     } else {
       set_launch_args(s, uint32_t(n), dense, job_start);
       size_t global = dense ? size_t(pool_) : pad_to_group(n);  // pool is a multiple of the group
@@ -789,6 +790,7 @@ class Wavefront {
   // lanes_program_ itself where that is 16 lanes too.
   cl::Program narrow_program_;
   uint32_t narrow_lanes_ = kLanes;
+  uint32_t lane_wg_ = kWorkGroup;  // the lane programs' work-group size (lane_work_group)
   bool classify_on_lanes_ = false;  // its classify_hit too (build_lanes_program)
   bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
   bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
@@ -827,6 +829,17 @@ uint32_t narrow_lane_width(const DeviceInfo& d, int forced) {
   if (forced != 0) return uint32_t(forced);
   return intel_runtime(d) && d.native_float_width == 8 ? 8u : kLanes;
 }
+
+// Work-items per group of the lane programs. A lane work-item runs kLaneSpan paths, so the
+// default pool on Intel's CPU runtime (2^16) is 1,024 work-items: 4 groups of 256, which its
+// threads share out as whole groups, and where the paths of a stage sit unevenly in the pool
+// one thread idled at the end of every launch (TBB's waits were 3.5% of a profile's samples).
+// Groups of 32 (32 of them) made the render 0.89x the time on an AMD EPYC (Zen 3, 2 cores;
+// Cornell box, 128x128, 256 spp, median of 12 interleaved pairs; 64: 0.93x; 16: 0.98x, 8
+// pairs), every stage alike. PoCL runs a group as one task with its own overhead, and 32 was
+// slower there (1.08x, 64 level), so it keeps 256 (docs/performance.md, "Smaller work-groups
+// for the lane programs on Intel's runtime").
+uint32_t lane_work_group(const DeviceInfo& d) { return intel_runtime(d) ? 32u : kWorkGroup; }
 
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   auto t_start = Clock::now();

@@ -155,6 +155,14 @@ TEST(Lanes, NarrowStagesAtEightOnlyWhereMeasuredToPay) {
   }
 }
 
+TEST(Lanes, SmallerWorkGroupsOnlyOnIntelsRuntime) {
+  aw::DeviceInfo intel, pocl;
+  intel.platform = "Intel(R) OpenCL";
+  pocl.platform = "Portable Computing Language";
+  EXPECT_EQ(aw::lane_work_group(intel), 32u);
+  EXPECT_EQ(aw::lane_work_group(pocl), 256u);
+}
+
 // What the lane program leaves out keeps the scene on the one-path kernels, and the stats say why.
 TEST(Lanes, OffForWhatIsStillOnePathPerCall) {
   aw::Scene zsobol = aw::load_scene(aw_test::source_path("scenes/cornell.json"),
