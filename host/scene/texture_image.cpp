@@ -55,6 +55,8 @@ class MemoryIStream : public Imf::IStream {
 // 4 floats each is 4 GiB of host memory already (the device's copy, packed, is smaller;
 // host/render/texture_pack.h).
 constexpr uint64_t kMaxTexels = uint64_t(16384) * 16384;
+// More than any EXR compression method achieves on real images (see decode_exr).
+constexpr uint64_t kMaxExrCompression = 2048;
 
 bool check_size(int w, int h, std::string* error) {
   if (w <= 0 || h <= 0) {
@@ -82,6 +84,21 @@ bool decode_exr(const unsigned char* bytes, size_t size, TextureDesc* t, std::st
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
     if (!check_size(w, h, error)) return false;
     const Imf::ChannelList& ch = in.header().channels();
+    // The texels are allocated before any is read, so a damaged header that claims a large
+    // window in a small file would cost gigabytes (fuzz_image, 2026-12-07: 2.4 GB for a
+    // 752-byte file). The file's pixel data, compressed, must still hold that window: no EXR
+    // compression reaches kMaxExrCompression (deflate's own limit is about 1032:1, RLE's 64:1),
+    // so a window whose uncompressed channels exceed the file's size times that is refused.
+    uint64_t texel_bytes = 0;
+    for (Imf::ChannelList::ConstIterator c = ch.begin(); c != ch.end(); ++c)
+      texel_bytes += c.channel().type == Imf::HALF ? 2u : 4u;
+    const uint64_t pixel_bytes = uint64_t(w) * uint64_t(h) * texel_bytes;
+    if (pixel_bytes > uint64_t(size) * kMaxExrCompression) {
+      *error = "the EXR's data window (" + std::to_string(w) + " x " + std::to_string(h) + " texels) needs " +
+               std::to_string(pixel_bytes) + " bytes of pixels, more than its " + std::to_string(size) +
+               " bytes can hold at any EXR compression (a damaged header)";
+      return false;
+    }
     const bool has_rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
     const bool has_y = ch.findChannel("Y") != nullptr;
     const bool has_a = ch.findChannel("A") != nullptr;

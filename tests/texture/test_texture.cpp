@@ -464,6 +464,11 @@ TEST(Texture, LoaderErrors) {
              "unknown value \"luminance\"");
   const std::string not_image = aw_test::write_temp_scene("not_an_image", "this is text");
   fails_with(R"({ "textures": { "t": { "file": ")" + not_image + R"(" } } })", "not a PNG, JPEG or EXR image");
+  // A 752-byte EXR whose damaged header claims a window of 2.4 GB of texels (found by
+  // fuzz_image): refused before the texels are allocated.
+  fails_with(R"({ "textures": { "t": { "file": ")" + aw_test::source_path("tests/fuzz/seeds/exr_window_huge.exr") +
+                 R"(" } } })",
+             "bytes can hold at any EXR compression (a damaged header)");
 }
 
 }  // namespace
