@@ -61,7 +61,7 @@ constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 constexpr double kRegenDenseFraction = 0.15;
 static_assert(kWorkGroup >= AW_Q_COUNT, "wg_append keeps one local counter per queue in the work-group");
 
-size_t pad_to_group(size_t n) { return (n + kWorkGroup - 1) / kWorkGroup * kWorkGroup; }
+size_t pad_to_group(size_t n, size_t group = kWorkGroup) { return (n + group - 1) / group * group; }
 
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -332,11 +332,15 @@ class Wavefront {
     if (!lack.empty())
       throw std::logic_error("the scene has lights or a sampler of a kind the specialised kernels lack (" + lack + "; built: " +
                              st_.kernel_features + "); the image would be wrong, so none is rendered");
-    const std::string features = (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
-    program_ = rt_.build(src, "-cl-std=CL1.2 -DAW_WG=" + std::to_string(kWorkGroup) + " " + features);
+    // The options at a work-group size: the one-path program's kWorkGroup, the lane programs' lane_wg_.
+    auto options_at = [&](uint32_t wg) {
+      return "-cl-std=CL1.2 -DAW_WG=" + std::to_string(wg) + " " +
+             (opts_.generic_kernels ? std::string() : features_.defines()) + " " + opts_.build_options;
+    };
+    program_ = rt_.build(src, options_at(kWorkGroup));
     st_.kernel_build = rt_.last_build();
     lane_wg_ = lane_work_group(rt_.info());
-    build_lanes_program(need, "-cl-std=CL1.2 -DAW_WG=" + std::to_string(lane_wg_) + " " + features);
+    build_lanes_program(need, options_at(lane_wg_));
   }
 
   // The most primitives (triangles and analytic spheres) for which the ray stages run on lanes
@@ -673,8 +677,8 @@ class Wavefront {
       // The lane form: pool / kLaneSpan work-items of that many consecutive slots each, in
       // groups of lane_wg_ (lane_work_group).
       set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);
-      const size_t items = (pool_ / kLaneSpan + lane_wg_ - 1) / lane_wg_ * lane_wg_;
-      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(items), cl::NDRange(lane_wg_));
+      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / kLaneSpan, lane_wg_)),
+                                       cl::NDRange(lane_wg_));
     } else {
       set_launch_args(s, uint32_t(n), dense, job_start);
       size_t global = dense ? size_t(pool_) : pad_to_group(n);  // pool is a multiple of the group
