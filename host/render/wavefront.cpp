@@ -398,10 +398,12 @@ class Wavefront {
     lanes_program_ = build_at(kLanes);
     narrow_lanes_ = narrow_lane_width(rt_.info(), opts_.narrow_lanes);
     narrow_program_ = narrow_lanes_ == kLanes ? lanes_program_ : build_at(narrow_lanes_);
-    // classify_hit on lanes leaves out more (kernels/integrator/classify_hit.h): the reflection
-    // lobes' sampled split, fog, instances.
+    // classify_hit on lanes leaves out more (kernels/integrator/classify_hit.h): fog,
+    // instances, and of the reflection lobes' sampled split all but isotropic GGX and mirrors
+    // (kernels/material/architectural.h, material_sampled_fresnel).
     std::string classify_why;
-    for (int i : {FeatureSet::REFLECTION, FeatureSet::FOG, FeatureSet::INSTANCE})
+    for (int i : {FeatureSet::FOG, FeatureSet::INSTANCE, FeatureSet::BRDF_BECKMANN, FeatureSet::BRDF_AS,
+                  FeatureSet::ANISOTROPY})
       if (need.on[i]) classify_why += (classify_why.empty() ? "" : ", ") + FeatureSet::lower_name(i);
     classify_on_lanes_ = classify_why.empty();
     // The lane traversal leaves out instances and cutouts (kernels/bvh/traverse_lanes.h), and

@@ -25,7 +25,8 @@
 // and the sampling, densities and intersection of the analytic lights (lights/lights.h), the
 // triangle and sphere tests (bvh/intersect_triangle.h, bvh/intersect_sphere.h) and the lane
 // traversal (bvh/traverse_lanes.h), the path state's access, the ray stages, the diffuse
-// shading stage and classification (integrator/).
+// shading stage and classification (integrator/), with the reflection lobes' sampled split:
+// Fresnel (lobes/fresnel.h) and the GGX visible-normal sampler (lobes/microfacet.h).
 #ifndef AW_COMMON_LANES_H
 #define AW_COMMON_LANES_H
 

@@ -5,8 +5,9 @@
 // this file reads as the list of its steps.
 // Written on lanes (common/lanes.h): at W > 1 a block of W paths, those of PS_LIVE. What is
 // still one path per call is left out there with #if AW_LANES == 1: fog, instances, textures
-// and bump maps, AOVs, anisotropic tangents, the reflection lobes' sampled split, the light
-// tree's and the environment map's densities; the host builds this stage on lanes only for
+// and bump maps, AOVs, anisotropic tangents, the reflection lobes' sampled split for Beckmann
+// and Ashikhmin-Shirley lobes (material_sampled_fresnel), the light tree's and the environment
+// map's densities; the host builds this stage on lanes only for
 // scenes that need none of them (host/render/wavefront.cpp, build_lanes_program).
 #ifndef AW_INTEGRATOR_CLASSIFY_HIT_H
 #define AW_INTEGRATOR_CLASSIFY_HIT_H
@@ -492,25 +493,30 @@ AW_FN lfloat3 lobe_weight_of(const LobeWeights* lw, luint lid) {
 // Lobe choice (docs/material.md §2): in proportion to each lobe's share of the energy, the
 // reflection lobes' Fresnel taken at the microfacet their sample will use: the same frame
 // and the same random numbers as shade_surface (material_lobe_weights_sampled says why).
-// Materials without reflection need neither the frame nor the random numbers (and the
-// reflection's sampled split is one path per call: on lanes no material reflects). Returns
-// each path's lobe queue, or DONE when no lobe has energy.
+// Materials without reflection need neither the frame nor the random numbers. On lanes the
+// reflection lobes are isotropic (material_sampled_fresnel), so their frame is make_frame's,
+// as material_reflection_frame's for an isotropic material; the split runs when any lane's
+// material reflects, and a lane whose material does not gets f = 0 from it, which is the
+// split without reflection. Returns each path's lobe queue, or DONE when no lobe has energy.
 AW_FN luint classify_choose_lobe(PathRef ps, MatL m, const RenderParams* rp, lfloat3 dir, lfloat3 n, lfloat3 tangent,
                                  lmask front) {
   const luint done = (luint)(AW_Q_DONE);
   luint bounce = PS_LU(ps, bounce);
   LobeWeights lw;
-#if AW_LANES == 1
-  if (AW_FEAT_REFLECTION && (m->refl[0].weight > 0.0f || m->refl[1].weight > 0.0f)) {
+  lmask reflects = AW_FEAT_REFLECTION && (MAT_F(m, refl[0].weight) > 0.0f || MAT_F(m, refl[1].weight) > 0.0f);
+  if (L_ANY(reflects)) {
     // The reflection's own normal (with bump mapping, the one its disable_bump chooses).
     n = shading_normal_for_lobe(ps, m, AW_LID_REFLECTION);
-    float3 rt, rb;
+    lfloat3 rt, rb;
+#if AW_LANES == 1
     material_reflection_frame(m, n, tangent, &rt, &rb);
-    float2 u_bsdf = rng_2d(rp_sampler(rp), PS_U(ps, pixel), PS_U(ps, sample), bounce, AW_DIM_BSDF);
-    lw = material_lobe_weights_sampled(m, frame_to_local(-dir, rt, rb, n), u_bsdf, front);
-  } else
+#else
+    (void)tangent;
+    make_frame(n, &rt, &rb);
 #endif
-  {
+    lfloat2 u_bsdf = rng_2d(rp_sampler(rp), PS_LU(ps, pixel), PS_LU(ps, sample), bounce, AW_DIM_BSDF);
+    lw = material_lobe_weights_sampled(m, frame_to_local(l3_neg(dir), rt, rb, n), u_bsdf, front);
+  } else {
     lw = material_lobe_weights_f(m, (lfloat)(0.0f), (lfloat)(0.0f), front);
   }
   // Refraction past its depth returns black (docs/material.md §5).

@@ -30,6 +30,7 @@
 
 #include "common/compat.h"
 #include "common/features.h"
+#include "common/lanes.h"
 #include "common/sampling.h"
 
 #define AW_MF_BECKMANN 0u
@@ -45,10 +46,13 @@
 // Lambda of a direction at or below the horizon: finite, large enough that G = 0 in float.
 #define AW_MF_LAMBDA_MAX 1e30f
 
+// On lanes (common/lanes.h) each lane's roughness; at W = 1 plain floats. Written on lanes:
+// glossiness_to_alpha and the GGX visible-normal sampler (the energy split of classify_hit on
+// lanes draws its microfacet normal); the rest is one path per call (AW_LANES == 1 below).
 typedef struct {
-  float ax;   // roughness along x (tangent u)
-  float ay;   // roughness along y (bitangent v)
-  uint dist;  // AW_MF_BECKMANN or AW_MF_GGX
+  lfloat ax;   // roughness along x (tangent u)
+  lfloat ay;   // roughness along y (bitangent v)
+  luint dist;  // AW_MF_BECKMANN or AW_MF_GGX
 } Microfacet;
 
 /* ----------------------------- roughness from the material -------------------------------- */
@@ -56,10 +60,12 @@ typedef struct {
 // docs/material.md §3.3: r = 1 - glossiness, alpha = r^2 (documented choice; Redshift publishes
 // none), clamped to >= 1e-4. Glossiness is clamped to [0, 1]; glossiness 1 gives alpha = 1e-4,
 // below AW_MF_MIRROR_ALPHA, i.e. a mirror.
-AW_FN float glossiness_to_alpha(float g) {
-  float r = 1.0f - clamp(g, 0.0f, 1.0f);
+AW_FN lfloat glossiness_to_alpha(lfloat g) {
+  lfloat r = 1.0f - clamp(g, 0.0f, 1.0f);
   return fmax(r * r, AW_MF_MIN_ALPHA);
 }
+
+#if AW_LANES == 1
 
 // Anisotropy a in [-1, 1] (docs/material.md §1: "<0 stretches along u, >0 along v"; §3.3).
 // aspect = sqrt(1 - 0.9 |a|); the STRETCHED axis gets alpha / aspect (rougher: the microfacet
@@ -255,6 +261,8 @@ AW_FN float mf_pdf_visible(Microfacet m, float3 wo, float3 h) {
   return oh * mf_D(m, h) / p;
 }
 
+#endif  // AW_LANES == 1
+
 // GGX: Heitz 2018, "Sampling the GGX Distribution of Visible Normals" (JCGT 7(4)), Sec. 2–4.
 // The GGX microsurface is the stretched hemisphere configuration; in the stretched space
 // (alpha = 1) the visible normals are uniformly distributed over the projected area of a
@@ -273,33 +281,35 @@ AW_FN float mf_pdf_visible(Microfacet m, float3 wo, float3 h) {
 //   c^2 = 1 - p1^2 = (1 - u1) + u1 sin^2,  c^2 - p2'^2 = 1 - r^2 = 1 - u1,
 //   1 - p1^2 - p2^2 = (c - p2)(c + p2) = s (c - p2') ((1 - s) 2c + s (c + p2')),
 // with c -+ p2' = (1 - u1) / (c +- p2') on the side where the direct difference would cancel.
-AW_FN float3 mf_sample_visible_ggx(Microfacet m, float3 wo, float2 u) {
-  float3 v = normalize(make_float3(m.ax * wo.x, m.ay * wo.y, wo.z));
-  float len2 = v.x * v.x + v.y * v.y;
-  float3 t1 = len2 > 0.0f ? make_float3(-v.y, v.x, 0.0f) * (1.0f / sqrt(len2)) : make_float3(1.0f, 0.0f, 0.0f);
-  float3 t2 = cross(v, t1);
-  float r = sqrt(u.x);
-  float one_m_r2 = 1.0f - u.x;
-  float sp, cp;
+// Written on lanes: every branch a select per lane; cross and normalize written out
+// (common/lanes.h: l3_cross, l3_normalize), so every width rounds alike.
+AW_FN lfloat3 mf_sample_visible_ggx(Microfacet m, lfloat3 wo, lfloat2 u) {
+  lfloat3 v = l3_normalize(make_lfloat3(m.ax * wo.x, m.ay * wo.y, wo.z));
+  lfloat len2 = v.x * v.x + v.y * v.y;
+  lfloat3 t1 = l3_sel(len2 > 0.0f, l3_scale(make_lfloat3(-v.y, v.x, (lfloat)(0.0f)), 1.0f / sqrt(len2)),
+                      make_lfloat3((lfloat)(1.0f), (lfloat)(0.0f), (lfloat)(0.0f)));
+  lfloat3 t2 = l3_cross(v, t1);
+  lfloat r = sqrt(u.x);
+  lfloat one_m_r2 = 1.0f - u.x;
+  lfloat sp, cp;
   sincos_turn(u.y, &sp, &cp);  // phi = 2 pi u.y (common/sampling.h)
-  float p1 = r * cp;
-  float q = r * sp;  // p2' before the remap
-  float c = sqrt(one_m_r2 + u.x * sp * sp);
-  float c_minus_q, c_plus_q;
-  if (q > 0.0f) {
-    c_plus_q = c + q;
-    c_minus_q = one_m_r2 / c_plus_q;
-  } else {
-    c_minus_q = c - q;
-    c_plus_q = c_minus_q > 0.0f ? one_m_r2 / c_minus_q : 0.0f;
-  }
-  float s = 0.5f * (1.0f + v.z);
-  float p2 = (1.0f - s) * c + s * q;
-  float lift = safe_sqrt(s * c_minus_q * ((1.0f - s) * 2.0f * c + s * c_plus_q));
-  float3 nh = p1 * t1 + p2 * t2 + lift * v;
-  return normalize(make_float3(m.ax * nh.x, m.ay * nh.y, fmax(nh.z, 0.0f)));
+  lfloat p1 = r * cp;
+  lfloat q = r * sp;  // p2' before the remap
+  lfloat c = sqrt(one_m_r2 + u.x * sp * sp);
+  // q > 0: c + q directly, c - q from it; otherwise c - q directly, c + q from it.
+  lmask q_pos = q > 0.0f;
+  lfloat direct = L_SEL(q_pos, c + q, c - q);
+  lfloat other = L_SEL(q_pos || direct > 0.0f, one_m_r2 / direct, (lfloat)(0.0f));
+  lfloat c_plus_q = L_SEL(q_pos, direct, other);
+  lfloat c_minus_q = L_SEL(q_pos, other, direct);
+  lfloat s = 0.5f * (1.0f + v.z);
+  lfloat p2 = (1.0f - s) * c + s * q;
+  lfloat lift = l_safe_sqrt(s * c_minus_q * ((1.0f - s) * 2.0f * c + s * c_plus_q));
+  lfloat3 nh = l3_add(l3_add(l3_scale(t1, p1), l3_scale(t2, p2)), l3_scale(v, lift));
+  return l3_normalize(make_lfloat3(m.ax * nh.x, m.ay * nh.y, fmax(nh.z, 0.0f)));
 }
 
+#if AW_LANES == 1
 // Beckmann: the stretch / rotate / sample-slopes / unstretch procedure of Heitz & d'Eon 2014,
 // "Importance Sampling Microfacet-Based BSDFs using the Distribution of Visible Normals"
 // (EGSR), Sec. 4, with the slope sampling of Jakob 2014, "An Improved Visible Normal Sampling
@@ -354,12 +364,20 @@ AW_FN float3 mf_sample_visible_beckmann(Microfacet m, float3 wo, float2 u) {
   return normalize(make_float3(-sx, -sy, 1.0f));
 }
 
+#endif  // AW_LANES == 1
+
 // A microfacet normal h (h.z >= 0) drawn with density mf_pdf_visible(m, wo, h). Requires
-// wo.z > 0 (returns +z otherwise).
-AW_FN float3 mf_sample_visible(Microfacet m, float3 wo, float2 u) {
-  if (!(wo.z > 0.0f)) return make_float3(0.0f, 0.0f, 1.0f);
+// wo.z > 0 (returns +z otherwise). On lanes GGX only: a lane program is built only for scenes
+// without a Beckmann lobe (host/render/wavefront.cpp, build_lanes_program).
+AW_FN lfloat3 mf_sample_visible(Microfacet m, lfloat3 wo, lfloat2 u) {
+  const lfloat3 up = make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(1.0f));
+#if AW_LANES == 1
+  if (!(wo.z > 0.0f)) return up;
   if (AW_MF_IS_BECKMANN(m)) return mf_sample_visible_beckmann(m, wo, u);
   return mf_sample_visible_ggx(m, wo, u);
+#else
+  return l3_sel(wo.z > 0.0f, mf_sample_visible_ggx(m, wo, u), up);
+#endif
 }
 
 #endif  // AW_LOBES_MICROFACET_H

@@ -8,7 +8,9 @@
 #include "common/features.h"
 #include "common/lanes.h"
 #include "common/sampling.h"
+#include "lobes/fresnel.h"
 #include "lobes/lobe.h"
+#include "lobes/microfacet.h"
 #include "material/lobe_list.h"
 #include "types/material.h"
 
@@ -199,41 +201,42 @@ AW_FN luint material_pick_lobe(const LobeWeights* lw, lfloat u) {
   return L_SEL(found, pick, last);  // round-off: the last lobe with weight
 }
 
+// Relative IOR n_far / n_near for a ray arriving from the `entering` side. Thin walls look
+// the same from both sides. On lanes, each lane's.
+AW_FN lfloat material_eta(lfloat ior, lmask entering, lmask thin) {
+  return L_SEL(entering || thin, ior, 1.0f / ior);
+}
+
+// Reflection lobe i's Fresnel (0 = reflection, 1 = reflection2). Thin walls reflect from both
+// faces (docs/material.md §3.6 "Thin walled"): a dielectric Fresnel becomes the pane's
+// R' = R + T^2 R / (1 - R^2), in the lobe and in the energy split alike, so a pane's R' + T' = 1.
+// A conductor or the artist curve is a reflectance as given (no light crosses a metal; the
+// curve is the user's). Written on lanes: each lane's material.
+AW_FN FresnelParams material_fresnel(MatL m, uint i, lmask entering) {
+  lmask thin = material_is_thin(m);
+  luint mode = MAT_U(m, refl[i].fresnel_mode);
+  lfloat ior = MAT_F(m, refl[i].fresnel_ior);
+  FresnelParams f;
+  f.mode = L_SEL(thin && mode == AW_FRESNEL_DIELECTRIC, (luint)(AW_FRESNEL_THIN_DIELECTRIC), mode);
+  f.eta = L_SEL(mode == AW_FRESNEL_CONDUCTOR, ior, material_eta(ior, entering, thin));
+  f.k = MAT_F(m, refl[i].fresnel_k);
+  f.facing = MAT_F(m, refl[i].facing);
+  f.perpendicular = MAT_F(m, refl[i].perpendicular);
+  f.curve = MAT_F(m, refl[i].curve);
+  return f;
+}
+
 // The rest of the material is one path per call: not in a program built on lanes, which is
 // built only for scenes whose materials need none of it (material/lobe_list.h,
 // AW_LOBE_LIST_ON_LANES).
 #if AW_LANES == 1
 
-#include "lobes/fresnel.h"
 #include "lobes/reflection.h"
 #include "lobes/thin_walled.h"
 
-
-
-// Relative IOR n_far / n_near for a ray arriving from the `entering` side. Thin walls look
-// the same from both sides.
-AW_FN float material_eta(float ior, int entering, int thin) {
-  return (entering || thin) ? ior : 1.0f / ior;
-}
-
-// A reflection lobe's Fresnel. Thin walls reflect from both faces (docs/material.md §3.6 "Thin
-// walled"): a dielectric Fresnel becomes the pane's R' = R + T^2 R / (1 - R^2), in the lobe and
-// in the energy split alike, so a pane's R' + T' = 1. A conductor or the artist curve is a
-// reflectance as given (no light crosses a metal; the curve is the user's).
-AW_FN FresnelParams material_fresnel(const AW_GLOBAL ReflectionGpu* r, int entering, int thin) {
-  FresnelParams f;
-  f.mode = (thin && r->fresnel_mode == AW_FRESNEL_DIELECTRIC) ? AW_FRESNEL_THIN_DIELECTRIC : r->fresnel_mode;
-  f.eta = r->fresnel_mode == AW_FRESNEL_CONDUCTOR ? r->fresnel_ior : material_eta(r->fresnel_ior, entering, thin);
-  f.k = r->fresnel_k;
-  f.facing = r->facing;
-  f.perpendicular = r->perpendicular;
-  f.curve = r->curve;
-  return f;
-}
-
 // Fresnel reflectance at the view angle (the split of docs/material.md §2 read literally).
-AW_FN float material_view_fresnel(const AW_GLOBAL ReflectionGpu* r, float cos_o, int entering, int thin) {
-  return clamp(fresnel_eval(material_fresnel(r, entering, thin), cos_o), 0.0f, 1.0f);
+AW_FN float material_view_fresnel(MatL m, uint i, float cos_o, int entering) {
+  return clamp(fresnel_eval(material_fresnel(m, i, entering), cos_o), 0.0f, 1.0f);
 }
 
 // Reflection lobe i (0 = reflection, 1 = reflection2) as the shading stage samples it.
@@ -241,8 +244,7 @@ AW_FN ReflectionParams material_reflection_params(const AW_GLOBAL MaterialGpu* m
   const AW_GLOBAL ReflectionGpu* r = &m->refl[i];
   float3 tint = load_f3(r->color);
   if (i == 0u && (m->flags & AW_MAT_METAL)) tint = tint * material_diffuse_color(m);
-  int thin = material_is_thin(m);
-  return reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(r, entering, thin));
+  return reflection_params_make(tint, r->brdf, r->glossiness, m->aniso_amount, material_fresnel(m, i, entering));
 }
 
 // Rotates the tangent about n by 2 pi * rotation (anisotropy.rotation, docs/material.md §3.3).
@@ -274,9 +276,8 @@ AW_FN void material_reflection_frame(const AW_GLOBAL MaterialGpu* m, float3 n, f
 // `entering` = the ray arrives on the outside of the surface (a ray arriving from inside a
 // refractive object is subject to skip_weak_internal_reflections).
 AW_FN LobeWeights material_lobe_weights(const AW_GLOBAL MaterialGpu* m, float cos_o, int entering) {
-  int thin = material_is_thin(m);
-  float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(&m->refl[0], cos_o, entering, thin) : 0.0f;
-  float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(&m->refl[1], cos_o, entering, thin) : 0.0f;
+  float f1 = m->refl[0].weight > 0.0f ? material_view_fresnel(m, 0u, cos_o, entering) : 0.0f;
+  float f2 = m->refl[1].weight > 0.0f ? material_view_fresnel(m, 1u, cos_o, entering) : 0.0f;
   return material_lobe_weights_f(m, f1, f2, entering);
 }
 
@@ -300,6 +301,30 @@ AW_FN float3 material_albedo(const AW_GLOBAL MaterialGpu* m, float cos_o, int en
 }
 
 
+#endif  // AW_LANES == 1
+
+// Reflection lobe i's reflectance for the split below: Fresnel at the microfacet normal that
+// its sample draws from u (the surface normal for a mirror), wo in the reflection frame. On
+// lanes the lobe is isotropic GGX or a mirror: a lane classify_hit is built only for scenes
+// whose reflection lobes are (no Beckmann, Ashikhmin-Shirley or anisotropy:
+// host/render/wavefront.cpp, build_lanes_program), and for those reflection_sample_normal
+// (lobes/reflection.h) is exactly this.
+AW_FN lfloat material_sampled_fresnel(MatL m, uint i, lfloat3 wo, lfloat2 u, lmask entering) {
+#if AW_LANES == 1
+  ReflectionParams p = material_reflection_params(m, i, entering);
+  float3 h = reflection_sample_normal(p, wo, u);
+  FresnelParams f = p.fresnel;
+#else
+  Microfacet mf;
+  mf.ax = mf.ay = glossiness_to_alpha(MAT_F(m, refl[i].glossiness));
+  mf.dist = (luint)(AW_MF_GGX);
+  lfloat3 h = l3_sel(mf.ax < AW_MF_MIRROR_ALPHA, make_lfloat3((lfloat)(0.0f), (lfloat)(0.0f), (lfloat)(1.0f)),
+                     mf_sample_visible(mf, wo, u));
+  FresnelParams f = material_fresnel(m, i, entering);
+#endif
+  return clamp(fresnel_eval(f, clamp(l3_dot(wo, h), 0.0f, 1.0f)), 0.0f, 1.0f);
+}
+
 // The split the renderer uses: each reflection lobe's reflectance is its Fresnel at the
 // microfacet normal that the lobe's own sample will draw from the same random numbers u
 // (wo in the reflection frame, material_reflection_frame). Why: the lobe carries Fresnel at
@@ -311,19 +336,14 @@ AW_FN float3 material_albedo(const AW_GLOBAL MaterialGpu* m, float cos_o, int en
 // material never creates energy; for a mirror h = n and this is the view-angle split exactly.
 // Unbiased: the lobe is chosen with probability p(h) and weighted 1/p(h) (NEE and BSDF
 // sampling alike), so E over h of the indicator / p(h) is 1 for any h-dependent choice.
-AW_FN LobeWeights material_lobe_weights_sampled(const AW_GLOBAL MaterialGpu* m, float3 wo, float2 u, int entering) {
-  float f[2] = {0.0f, 0.0f};
+AW_FN LobeWeights material_lobe_weights_sampled(MatL m, lfloat3 wo, lfloat2 u, lmask entering) {
+  lfloat f[2] = {(lfloat)(0.0f), (lfloat)(0.0f)};
   for (uint i = 0u; AW_FEAT_REFLECTION && i < 2u; ++i) {
-    if (!(m->refl[i].weight > 0.0f)) continue;
-    ReflectionParams p = material_reflection_params(m, i, entering);
-    float3 h = reflection_sample_normal(p, wo, u);
-    f[i] = clamp(fresnel_eval(p.fresnel, clamp(dot(wo, h), 0.0f, 1.0f)), 0.0f, 1.0f);
+    lmask has = MAT_F(m, refl[i].weight) > 0.0f;
+    if (!L_ANY(has)) continue;
+    f[i] = L_SEL(has, material_sampled_fresnel(m, i, wo, u, entering), (lfloat)(0.0f));
   }
   return material_lobe_weights_f(m, f[0], f[1], entering);
 }
-
-
-
-#endif  // AW_LANES == 1
 
 #endif

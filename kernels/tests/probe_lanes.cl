@@ -12,6 +12,7 @@
 #include "common/ray.h"
 #include "common/sampling.h"
 #include "lobes/diffuse.h"
+#include "lobes/fresnel.h"
 #include "lights/lights.h"
 #include "integrator/shade_common.h"
 #include "integrator/light_select.h"
@@ -306,3 +307,25 @@ __kernel void probe_classify_lanes(uint n, __global const float* in, __global fl
   luint q = classify_hit(ps, sc, &rp);
   L_STORE(L_UINT_AS_FLOAT(q), out + nstate * n, g);
 }
+
+// probe_pow_lanes (the artist curve's pow, lobes/fresnel.h: fresnel_curve)
+// in: 2 fields of n values: x, y.
+// out: pow(x, y) on 16 lanes (n values), then pow(x, y) one float at a time (n values), then
+//      fresnel_curve(1 - x, 0, 1, y) on 16 lanes (n values), then its formula one float at a
+//      time (n values).
+__kernel void probe_pow_lanes(uint n, __global const float* in, __global float* out) {
+  uint g = get_global_id(0);
+  if ((g + 1u) * AW_LANES > n) return;
+  lfloat x = L_LOAD(in, g), y = L_LOAD(in + n, g);
+  L_STORE(pow(x, y), out, g);
+  L_STORE(fresnel_curve(1.0f - x, (lfloat)(0.0f), (lfloat)(1.0f), y), out + 2u * n, g);
+  for (uint k = 0u; k < AW_LANES; ++k) {
+    uint i = g * AW_LANES + k;
+    float p = pow(in[i], in[n + i]);
+    out[n + i] = p;
+    float c = clamp(1.0f - in[i], 0.0f, 1.0f);
+    float q = pow(1.0f - c, fmax(in[n + i], 0.0f));
+    out[3u * n + i] = 0.0f + (1.0f - 0.0f) * (q < 1.17549435e-38f ? 0.0f : q);
+  }
+}
+

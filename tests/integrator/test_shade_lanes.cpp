@@ -297,8 +297,10 @@ TEST(ShadeLanes, DiffuseStageEqualsTheHostBitForBit) {
 // The whole classification stage (classify_hit: a light hit with MIS, an escape to the
 // constant environment and a soft sun, a triangle or analytic sphere hit and its shading
 // point, the feature guard, incandescence of a light-sampled triangle and of a plain one
-// under AO, the end of the path at max_depth, the lobe's choice among diffuse, translucency and
-// refraction, AO's queue) on a path state of 4096 slots in blocks of 16, against the host one
+// under AO, the end of the path at max_depth, the lobe's choice among diffuse, translucency,
+// both reflection lobes and refraction, with the reflections' Fresnel at the microfacet normal
+// their samples draw (GGX and mirrors; dielectric, conductor, thin-walled and curve Fresnel),
+// AO's queue) on a path state of 4096 slots in blocks of 16, against the host one
 // path at a time: every word of every slot but those of the texture step, and the next queue.
 // Lanes of a block hit different primitives, materials and lights. (The host's generic build
 // has textures: its texture step writes the footprint, cone_w and sp_t*, and the material of
@@ -310,8 +312,17 @@ TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
   std::uniform_real_distribution<float> uni(0.0f, 1.0f);
   // Materials: 0 white, 1 diffuse + translucency + refraction, 2 clear refraction (skip weak
   // internal reflections, refraction depth 1), 3 incandescent (the light-sampled triangle's),
-  // 4 incandescent under AO (multiply, applied to incandescence), 5 black.
-  std::vector<MaterialGpu> mats(6);
+  // 4 incandescent under AO (multiply, applied to incandescence), 5 black; and the reflection
+  // lobes' sampled split (material_sampled_fresnel: isotropic GGX and mirrors on lanes):
+  // 6 rough GGX over diffuse (dielectric Fresnel) with a second, rougher lobe (artist curve of
+  // exponent 1), 7 a mirror (glossiness 1) with a conductor's Fresnel, metal, 8 glass (mirror
+  // reflection locked to a refraction of IOR 1.5, skip weak internal reflections), 9 a
+  // thin-walled pane (thin dielectric Fresnel), 10 a flat artist curve (exponent 0) over a
+  // second, GGX lobe.
+  // (The curve's exponents are 1 and 0 because pow's result is then exact on every side;
+  // the host's pow and a device's may differ by an ulp elsewhere. That a device's pow rounds
+  // alike on lanes and on one path is LaneMath.PowRoundsAsOnAScalar.)
+  std::vector<MaterialGpu> mats(11);
   for (size_t k = 0; k < mats.size(); ++k) {
     MaterialGpu& m = mats[k];
     std::memset(&m, 0, sizeof m);
@@ -336,6 +347,35 @@ TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
   store_f3(mats[4].incandescent, glm::vec3(0.5f, 0.5f, 0.5f));
   mats[4].ao_samples = 4u;
   mats[4].ao_flags = AW_AO_MULTIPLY | AW_AO_INCANDESCENCE;
+  auto reflection = [&](MaterialGpu& m, int i, float weight, float glossiness, uint32_t fresnel, float ior) {
+    ReflectionGpu& r = m.refl[i];
+    store_f3(r.color, glm::vec3(0.9f, 0.85f, 0.8f));
+    r.weight = weight;
+    r.glossiness = glossiness;
+    r.brdf = AW_BRDF_GGX;
+    r.fresnel_mode = fresnel;
+    r.fresnel_ior = ior;
+  };
+  reflection(mats[6], 0, 1.0f, 0.6f, AW_FRESNEL_DIELECTRIC, 1.5f);
+  reflection(mats[6], 1, 0.7f, 0.2f, AW_FRESNEL_CURVE, 0.0f);
+  mats[6].refl[1].facing = 0.1f, mats[6].refl[1].perpendicular = 0.9f, mats[6].refl[1].curve = 1.0f;
+  reflection(mats[7], 0, 1.0f, 1.0f, AW_FRESNEL_CONDUCTOR, 0.3f);
+  mats[7].refl[0].fresnel_k = 3.0f;
+  mats[7].flags |= AW_MAT_METAL;
+  reflection(mats[8], 0, 1.0f, 1.0f, AW_FRESNEL_DIELECTRIC, 1.5f);
+  mats[8].diffuse_weight = 0.0f;
+  mats[8].refr_weight = 1.0f;
+  mats[8].refr_ior = 1.5f;
+  store_f3(mats[8].refr_color, glm::vec3(1.0f, 1.0f, 1.0f));
+  mats[8].flags |= AW_MAT_SKIP_WEAK_INTERNAL;
+  reflection(mats[9], 0, 1.0f, 0.9f, AW_FRESNEL_DIELECTRIC, 1.5f);
+  mats[9].refr_weight = 0.8f;
+  mats[9].refr_ior = 1.5f;
+  store_f3(mats[9].refr_color, glm::vec3(0.9f, 0.95f, 1.0f));
+  mats[9].flags |= AW_MAT_THIN_WALLED;
+  reflection(mats[10], 0, 0.5f, 0.3f, AW_FRESNEL_CURVE, 0.0f);
+  mats[10].refl[0].facing = mats[10].refl[0].perpendicular = 0.4f;
+  reflection(mats[10], 1, 1.0f, 0.5f, AW_FRESNEL_DIELECTRIC, 1.33f);
   // Geometry: a floor of two triangles (with and without vertex normals), a wall whose vertex
   // normals lean away (the silhouette guards), a degenerate triangle, the light-sampled
   // triangle, and a sphere (one vertex, its centre: types/bvh.h).
@@ -363,10 +403,12 @@ TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
   sph.n[0] = 1.0f, sph.t[1] = 1.0f;
   verts.push_back(sph);
   const uint32_t sc_v = uint32_t(verts.size() - 1);
-  std::vector<TriangleInfo> tris = {{{f0, f1, f2}, 0u}, {{f0, f2, f3}, 1u},         {{w0, w1, w2}, 2u},
-                                    {{d0, d1, d2}, 0u}, {{l0, l1, l2}, 3u},         {{f0, f2, f3}, 4u},
-                                    {{f0, f1, f2}, 5u}, {{sc_v, AW_SPHERE_MARK, sc_v}, 1u}, {{sc_v, AW_SPHERE_MARK, sc_v}, 2u}};
-  const uint32_t sphere_first = 7u;
+  std::vector<TriangleInfo> tris = {{{f0, f1, f2}, 0u}, {{f0, f2, f3}, 1u},  {{w0, w1, w2}, 2u},  {{d0, d1, d2}, 0u},
+                                    {{l0, l1, l2}, 3u}, {{f0, f2, f3}, 4u},  {{f0, f1, f2}, 5u},  {{f0, f1, f2}, 6u},
+                                    {{f0, f2, f3}, 7u}, {{w0, w1, w2}, 9u},  {{f0, f1, f2}, 10u},
+                                    {{sc_v, AW_SPHERE_MARK, sc_v}, 1u}, {{sc_v, AW_SPHERE_MARK, sc_v}, 2u},
+                                    {{sc_v, AW_SPHERE_MARK, sc_v}, 8u}};
+  const uint32_t sphere_first = 11u;
   // Lights: the soft sun (a light at infinity first), a quad, a point, a sphere, the triangle.
   LightGpu sun = shade_test_light(AW_LIGHT_SUN, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, std::cos(0.3f), AW_LIGHT_VISIBLE);
   store_f3(sun.n, glm::normalize(glm::vec3(0.2f, 1.0f, 0.1f)));
@@ -487,8 +529,10 @@ TEST(ClassifyLanes, ClassificationEqualsTheHostBitForBit) {
   // Every way out is taken, often.
   EXPECT_GT(count[AW_Q_DONE], live / 10);
   EXPECT_GT(count[AW_Q_AO], live / 100);
-  for (uint32_t lid : {uint32_t(AW_LID_DIFFUSE), uint32_t(AW_LID_TRANSLUCENCY), uint32_t(AW_LID_REFRACTION)})
+  for (uint32_t lid : {uint32_t(AW_LID_DIFFUSE), uint32_t(AW_LID_TRANSLUCENCY), uint32_t(AW_LID_REFLECTION),
+                       uint32_t(AW_LID_REFRACTION)})
     EXPECT_GT(count[AW_Q_LOBE + lid], live / 50) << "lobe " << lid;
+  EXPECT_GT(count[AW_Q_LOBE + AW_LID_REFLECTION2], live / 200);  // two materials of eleven have it, one triangle each
   EXPECT_GT(lit, live / 10);
 }
 

@@ -465,6 +465,43 @@ TEST(LaneMath, AcosIsCephesAccurate) {
   EXPECT_EQ(l_acos(1.0f), 0.0f);
 }
 
+// pow on 16 lanes against pow on one float, on the device (kernels/tests/probe_lanes.cl,
+// probe_pow_lanes): the artist curve's Fresnel (lobes/fresnel.h, fresnel_curve) is the one
+// library call of the lane classification stage, whose film must equal the one-path kernels'
+// bit for bit (Lanes.SameFilmWithAndWithoutLanes); PoCL's acos did not round alike (l_acos
+// above). The two agree wherever the result is a normal float; PoCL 3.1 rounds subnormal
+// results differently on a vector (this test found it), which fresnel_curve takes as 0, so
+// fresnel_curve itself agrees everywhere. Bases over [0, 1] (1 - cos), with 0, 1/2, 1 and a
+// subnormal; exponents over [0, 20], with 0 and small integers (the curve's default is 5).
+// Runs on every device (@intel, @gpu).
+TEST(LaneMath, PowRoundsAsOnAScalar) {
+  const uint32_t n = 1u << 16;
+  Uniform uni(5077);
+  std::vector<float> in(2 * n);
+  for (uint32_t i = 0; i < n; ++i) {
+    float x = uni.next(), y = 20.0f * uni.next();
+    if (i % 11 == 0) x = float(i % 3) * 0.5f;
+    if (i % 13 == 0) x = 1e-40f;
+    if (i % 7 == 0) y = float(i % 8);
+    in[i] = x;
+    in[n + i] = y;
+  }
+  std::vector<float> dev = run_device_probe("tests/probe_lanes.cl", "probe_pow_lanes", in, 4, n);
+  size_t pow_differ = 0, curve_differ = 0, subnormal = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const float lanes = dev[i], one = dev[n + i];
+    subnormal += std::fabs(one) < 1.17549435e-38f && one != 0.0f;
+    if (std::memcmp(&lanes, &one, 4) != 0 && std::fabs(one) >= 1.17549435e-38f && pow_differ++ < 10)
+      ADD_FAILURE() << "pow(" << in[i] << ", " << in[n + i] << "): 16 lanes " << lanes << ", one float " << one;
+    if (std::memcmp(&dev[2 * n + i], &dev[3 * n + i], 4) != 0 && curve_differ++ < 10)
+      ADD_FAILURE() << "fresnel_curve at 1 - " << in[i] << ", exponent " << in[n + i] << ": 16 lanes " << dev[2 * n + i]
+                    << ", one float " << dev[3 * n + i];
+  }
+  EXPECT_EQ(pow_differ, 0u);
+  EXPECT_EQ(curve_differ, 0u);
+  EXPECT_GT(subnormal, 10u);  // the inputs do reach the subnormal results that fresnel_curve flushes
+}
+
 // The diffuse lobe on lanes (lobes/diffuse.h, common/lanes.h): built with 16 paths per
 // work-item (kernels/tests/probe_lanes.cl, probe_diffuse_lanes), its eval, pdf, sample and
 // directional albedo equal the host's one-path C++ bit for bit (EON's arccos is l_acos, which

@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/render/render.h"
@@ -26,9 +27,13 @@ size_t differing_words(const aw::RenderResult& a, const aw::RenderResult& b) {
 // run on lanes: the Cornell box (quad and point
 // light, Lambert; also with paths ended at max_depth 2), the race's small sphere light (an
 // analytic sphere beside triangles), rough diffuse (EON) under a quad light; and lobes on lanes
-// beside lobes that are not (glass, GGX, lobe splitting: race_spheres, whose reflection keeps
-// classification one path per work-item); every launch of those stages dense (the lane
-// kernels' only form) and the default mix of dense and queue launches; with GI and without.
+// beside lobes that are not (glass, GGX, lobe splitting: race_spheres; and every material of
+// materials.json but fog and anisotropy, which keep classification one path per work-item:
+// GGX over rough diffuse, a curve-Fresnel plastic with a second reflection lobe, a mirror,
+// glass, a conductor with metal, a thin-walled translucent leaf, an incandescent lamp, so that
+// classification's sampled split on lanes meets every Fresnel mode); every launch of those
+// stages dense (the lane kernels' only form) and the default mix of dense and queue launches;
+// with GI and without.
 //
 // Each case runs with the ray stages and classification at 16 lanes (the lane program's one
 // width) and, where `narrow` is set, at 8 too (a second program, kernels_lanes.cl at
@@ -44,20 +49,18 @@ TEST(Lanes, SameFilmWithAndWithoutLanes) {
   };
   const char* all = "16 paths per work-item: regenerate intersect_closest classify_hit shade_diffuse intersect_shadow";
   const char* all8 = "16 paths per work-item: regenerate shade_diffuse; 8: intersect_closest classify_hit intersect_shadow";
-  const char* reflective =
-      "16 paths per work-item: regenerate intersect_closest shade_diffuse intersect_shadow (classify_hit one path per work-item: "
-      "the scene needs reflection)";
-  const char* reflective8 =
-      "16 paths per work-item: regenerate shade_diffuse; 8: intersect_closest intersect_shadow (classify_hit one path per "
-      "work-item: the scene needs reflection)";
   const std::vector<std::string> small = {"render.width=96", "render.height=64", "render.spp=8"};
+  const std::vector<std::string> every_fresnel = {"materials.glass.refraction.fog.enable=false",
+                                                  "materials.bronze.anisotropy.amount=0",
+                                                  "materials.plastic.reflection2={\"weight\": 0.5, \"glossiness\": 0.4}"};
   const Case cases[] = {{"scenes/cornell.json", {}, 0.0, all, all8},
                         {"scenes/cornell.json", {}, -1.0, all, all8},
                         {"scenes/cornell.json", {"render.gi=false"}, 0.0, all, nullptr},
                         {"scenes/cornell.json", {"render.max_depth=2"}, 0.0, all, nullptr},
                         {"scenes/bench/race_small_light.json", {}, 0.0, all, all8},
                         {"scenes/docs/diffuse_roughness_1.json", {}, 0.0, all, nullptr},
-                        {"scenes/bench/race_spheres.json", {}, 0.0, reflective, reflective8}};
+                        {"scenes/bench/race_spheres.json", {}, 0.0, all, all8},
+                        {"scenes/materials.json", every_fresnel, 0.0, all, all8}};
   for (const Case& c : cases) for (int narrow : {16, 8}) {
     if (narrow == 8 && !c.narrow) continue;
     std::vector<std::string> defs = small;
@@ -173,6 +176,25 @@ TEST(Lanes, OffForWhatIsStillOnePathPerCall) {
                                       {"render.width=16", "render.height=16", "render.spp=1"});
   aw::RenderResult t = aw::render_wavefront(textured, aw_test::quiet_options());
   EXPECT_EQ(t.stats.lanes, "off (the scene needs texture, bump, one path per work-item still)");
+  // Classification alone: its sampled split on lanes has isotropic GGX and mirrors only
+  // (kernels/material/architectural.h, material_sampled_fresnel), and no fog.
+  const std::string classify_off =
+      "16 paths per work-item: regenerate intersect_closest shade_diffuse intersect_shadow (classify_hit one path per "
+      "work-item: the scene needs ";
+  aw::RenderOptions opts = aw_test::quiet_options();
+  opts.lane_traversal = 1;
+  opts.narrow_lanes = 16;
+  for (const auto& [defs, why] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{}, "fog, anisotropy"},
+           {{"materials.glass.refraction.fog.enable=false", "materials.bronze.anisotropy.amount=0",
+             "materials.plastic.reflection.brdf=beckmann"}, "brdf_beckmann"},
+           {{"materials.glass.refraction.fog.enable=false", "materials.bronze.anisotropy.amount=0",
+             "materials.floor.reflection.brdf=ashikhmin_shirley"}, "brdf_as"}}) {
+    std::vector<std::string> d = {"render.width=16", "render.height=16", "render.spp=1"};
+    d.insert(d.end(), defs.begin(), defs.end());
+    aw::Scene sc = aw::load_scene(aw_test::source_path("scenes/materials.json"), d);
+    EXPECT_EQ(aw::render_wavefront(sc, opts).stats.lanes, classify_off + why + ")");
+  }
 }
 
 }  // namespace
