@@ -16,7 +16,8 @@
 //
 // The packet's order: a node's children that some lane enters are visited nearest first by
 // the smallest entry distance over the lanes that enter them (the others are pushed, farthest
-// first), each with its own lanes: a lane that misses a child's box takes no part in its
+// first; shadow rays, which need any hit, take them in their stored order), each with its own
+// lanes: a lane that misses a child's box takes no part in its
 // subtree. The stack keeps, per entry, each lane's entry distance (NaN for a lane that does
 // not enter), so that a popped entry is skipped by the lanes whose hit is already nearer than
 // where they enter it: the one-ray loop's test of that box against the hit so far, as
@@ -91,7 +92,7 @@ AW_FN TriangleHit bvh_intersect_lanes(const AW_GLOBAL float4* nodes, uint num_no
     if (L_ANY(m)) {                                                                                       \
       hn[k] = ch.s##c;                                                                                    \
       htn[k] = L_SEL(m, e, (lfloat)(NAN));                                                                \
-      hk[k] = l_hmin(L_SEL(m, e, (lfloat)(INFINITY)));                                                    \
+      hk[k] = any_hit ? 0.0f : l_hmin(L_SEL(m, e, (lfloat)(INFINITY)));                                    \
       ++k;                                                                                                \
     }                                                                                                     \
   }
@@ -102,8 +103,11 @@ AW_FN TriangleHit bvh_intersect_lanes(const AW_GLOBAL float4* nodes, uint num_no
 #undef AW_LANE_CHILD
       if (k == 0) break;
       // Farthest first (insertion sort of at most four by the nearest lane's entry), so the
-      // stack pops them nearest first; the nearest is visited now.
-      for (int i = 1; i < k; ++i) {
+      // stack pops them nearest first; the nearest is visited now. Shadow rays (any_hit) take
+      // the children in their stored order: any occluder ends a lane, whichever is found first,
+      // and the sort and its horizontal minima cost their stage 14% on Intel's runtime
+      // (docs/performance.md, "Shadow rays without the children's sort").
+      for (int i = 1; !any_hit && i < k; ++i) {
         int n_i = hn[i];
         float k_i = hk[i];
         lfloat t_i = htn[i];
