@@ -325,7 +325,7 @@ __kernel void probe_pow_lanes(uint n, __global const float* in, __global float* 
     out[n + i] = p;
     float c = clamp(1.0f - in[i], 0.0f, 1.0f);
     float q = pow(1.0f - c, fmax(in[n + i], 0.0f));
-    out[3u * n + i] = 0.0f + (1.0f - 0.0f) * (q < 1.17549435e-38f ? 0.0f : q);
+    out[3u * n + i] = q < 1.17549435e-38f ? 0.0f : q;  // facing 0, perpendicular 1: the flushed power
   }
 }
 
