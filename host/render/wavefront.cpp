@@ -44,16 +44,21 @@ namespace {
 constexpr uint32_t kWorkGroup = 256;
 constexpr uint32_t kLanes = 16;  // paths per vector of the lane program (kernels_lanes.cl, -DAW_LANES)
 // Slots per work-item of a lane program: kLaneSpan / W blocks of W (kernels_lanes.cl,
-// -DAW_LANE_BLOCKS), whose appends are one atomic per queue per work-item: four blocks of 16,
-// or eight of 8 in the narrow program (narrow_lane_width), so that every lane kernel covers the
-// pool with pool / kLaneSpan work-items.
-constexpr uint32_t kLaneSpan = 64;
+// -DAW_LANE_BLOCKS), whose appends are one atomic per queue per work-item: 16 blocks of 16, or
+// 32 of 8 in the narrow program (narrow_lane_width), so that every lane kernel covers the pool
+// with pool / kLaneSpan work-items. 256 rather than 64: on an AVX-512 Xeon the atomics, whose
+// counters' cache line moves between the cores, were still 7% of the lane program's profile
+// at 64, and 256 made the Cornell box render 0.945x the time on Intel's runtime and 0.967x on
+// PoCL (regenerate 0.79x and 0.85x, classify_hit 0.90x and 0.87x, shade_diffuse 0.91x and
+// 0.94x; the groups kept at the same paths, lane_work_group); 512 gained 1.4% more on Intel's
+// runtime (docs/performance.md, "Appends per sixteen blocks").
+constexpr uint32_t kLaneSpan = 256;
 static_assert(kWorkGroup % kLaneSpan == 0, "the pool, a multiple of the group, is whole work-items of the lane program");
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 // regenerate's lane form runs over the whole pool whatever its count, while its queue form
 // costs per path (52 and 57 ns on Intel's runtime and PoCL, the state written a cache line per
 // word per path). With one block per work-item the lane form cost 4.0-4.4 ms a launch and
-// paid from a third of the pool; with four blocks (kLaneSpan: a quarter of the atomics) it pays
+// paid from a third of the pool; with four blocks (a quarter of the atomics; kLaneSpan) it pays
 // from less than a tenth (Cornell box, stage seconds on Intel's runtime: 0.083 at a third,
 // 0.058-0.061 at 0.2, 0.15 and 0.1; PoCL 0.098-0.103 at a third, 0.071-0.075 at 0.15),
 // and 0.15 keeps a margin for the launches near the end of a batch (docs/performance.md,
@@ -836,16 +841,17 @@ uint32_t narrow_lane_width(const DeviceInfo& d, int forced) {
   return intel_runtime(d) && d.native_float_width == 8 ? 8u : kLanes;
 }
 
-// Work-items per group of the lane programs. A lane work-item runs kLaneSpan paths, so the
-// default pool on Intel's CPU runtime (2^16) is 1,024 work-items: 4 groups of 256, which its
-// threads share out as whole groups, and where the paths of a stage sit unevenly in the pool
-// one thread idled at the end of every launch (TBB's waits were 3.5% of a profile's samples).
-// Groups of 32 (32 of them) made the render 0.89x the time on an AMD EPYC (Zen 3, 2 cores;
-// Cornell box, 128x128, 256 spp, median of 12 interleaved pairs; 64: 0.93x; 16: 0.98x, 8
-// pairs), every stage alike. PoCL runs a group as one task with its own overhead, and 32 was
-// slower there (1.08x, 64 level), so it keeps 256 (docs/performance.md, "Smaller work-groups
-// for the lane programs on Intel's runtime").
-uint32_t lane_work_group(const DeviceInfo& d) { return intel_runtime(d) ? 32u : kWorkGroup; }
+// Work-items per group of the lane programs: 2,048 paths per group on Intel's CPU runtime
+// (8 work-items of kLaneSpan), 16,384 on other devices (64). Intel's runtime shares out whole
+// groups among its threads, and with 4 groups per launch of its default pool (2^16) one thread
+// idled at the end of every launch where a stage's paths sat unevenly in the pool (TBB's
+// waits were 3.5% of a profile's samples): 32 groups made the render 0.89x the time on an AMD
+// EPYC (Zen 3, 2 cores; Cornell box, 128x128, 256 spp, median of 12 interleaved pairs; 16
+// groups: 0.93x; 64: 0.98x, 8 pairs), every stage alike. PoCL runs a group as one task with
+// its own overhead, and smaller groups were slower there (docs/performance.md, "Smaller
+// work-groups for the lane programs on Intel's runtime"). Both measured at 64 paths per
+// work-item and kept per group at 256 (on PoCL, 32 work-items a group measured level with 64).
+uint32_t lane_work_group(const DeviceInfo& d) { return (intel_runtime(d) ? 2048u : 16384u) / kLaneSpan; }
 
 RenderResult render_wavefront(const Scene& scene, const RenderOptions& opts) {
   auto t_start = Clock::now();

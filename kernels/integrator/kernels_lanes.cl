@@ -37,10 +37,11 @@
 // name on a counter that both cores' work-items hit; one block per work-item paid 9% of the
 // lane program's time there (perf on Intel's runtime, Cornell box: 16% of shade_diffuse, 12%
 // of classify_hit, two thirds of regenerate in the instruction after each `lock xadd`, the
-// counters' cache line moving between the cores); docs/performance.md, "Appends per four
-// blocks". 4 blocks: 64 paths per work-item, pool / 64 work-items (4,096 at the CPU default).
+// counters' cache line moving between the cores), four blocks still 7% on an AVX-512 Xeon;
+// docs/performance.md, "Appends per four blocks" and "Appends per sixteen blocks". The host
+// sets it (wavefront.cpp, kLaneSpan): 256 paths per work-item, 16 blocks of 16 or 32 of 8.
 #ifndef AW_LANE_BLOCKS
-#define AW_LANE_BLOCKS 4
+#define AW_LANE_BLOCKS 16
 #endif
 #define AW_LANE_SPAN (AW_LANES * AW_LANE_BLOCKS)
 
