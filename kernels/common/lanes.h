@@ -188,16 +188,19 @@ AW_FN lfloat3 l3_bcast(float3 v) { return v; }
 AW_FN float l_hmin(lfloat v) { return v; }
 #else
 AW_FN lfloat3 l3_bcast(float3 v) { return make_lfloat3((lfloat)(v.x), (lfloat)(v.y), (lfloat)(v.z)); }
-// The smallest of the lanes (a tree reduction of halves; no lane may be NaN).
+// The smallest of the lanes (a tree reduction of halves; no lane may be NaN). By selects, not
+// fmin: fmin's rule for a NaN operand cost Intel's runtime a compare and a blend per step on
+// top of each min (AVX-512; the traversal's sort keys, bvh/traverse_lanes.h), and without NaNs
+// a select gives the same value but for which of two zeros of opposite sign, which compare equal.
 AW_FN float l_hmin(lfloat v) {
 #if AW_LANES == 16
-  float8 h8 = fmin(v.lo, v.hi);
+  float8 h8 = v.lo < v.hi ? v.lo : v.hi;
 #else
   float8 h8 = v;
 #endif
-  float4 h4 = fmin(h8.lo, h8.hi);
-  float2 h2 = fmin(h4.lo, h4.hi);
-  return fmin(h2.x, h2.y);
+  float4 h4 = h8.lo < h8.hi ? h8.lo : h8.hi;
+  float2 h2 = h4.lo < h4.hi ? h4.lo : h4.hi;
+  return h2.x < h2.y ? h2.x : h2.y;
 }
 #endif
 // Component k (0, 1, 2: x, y, z) of each lane's vector, k per lane.
