@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <deque>
 #include <memory>
 #include <numeric>
 #include <stdexcept>
@@ -64,7 +65,7 @@ constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 // and 0.15 keeps a margin for the launches near the end of a batch (docs/performance.md,
 // "Appends per four blocks").
 constexpr double kRegenDenseFraction = 0.15;
-static_assert(kWorkGroup >= AW_Q_COUNT, "wg_append keeps one local counter per queue in the work-group");
+static_assert(kWorkGroup >= AW_C_COUNT, "wg_append keeps one local counter per queue and counter in the work-group");
 
 size_t pad_to_group(size_t n, size_t group = kWorkGroup) { return (n + group - 1) / group * group; }
 
@@ -162,33 +163,8 @@ class Wavefront {
       // Jobs until which to render: all of them, or (time limit) the end of the sample pass
       // under way when the limit passed, so every pixel has the same number of new samples.
       uint64_t stop_at = total_jobs_;
-      auto last_checkpoint = Clock::now();
       last_snapshot_ = Clock::now();
-      while (jobs_done < stop_at) {
-        if (cancelled()) break;
-        uint32_t batch = uint32_t(std::min<uint64_t>(max_batch_, stop_at - jobs_done));
-        uint32_t issued = run_batch(jobs_done, batch, progress);
-        jobs_done += issued;
-        progress.update(jobs_done);
-        if (issued < batch) break;  // interrupted
-        if (opts_.time_limit > 0.0 && stop_at == total_jobs_ && since(t_start_) >= opts_.time_limit) {
-          stop_at = (jobs_done + npix_ - 1) / npix_ * npix_;
-          st_.time_limited = stop_at < total_jobs_;
-          if (st_.time_limited) progress.set_note("time limit: finishing this sample pass");
-        }
-        if (jobs_done >= stop_at) break;
-        if (opts_.checkpoint && opts_.checkpoint_seconds > 0.0 && since(last_checkpoint) >= opts_.checkpoint_seconds) {
-          read_film();
-          opts_.checkpoint(res_);
-          ++st_.checkpoints;
-          progress.set_note("checkpoint " + std::to_string(st_.checkpoints) + " written");
-          last_checkpoint = Clock::now();
-        } else if (opts_.snapshot_seconds == 0.0 ||
-                   (opts_.snapshot_seconds > 0.0 &&
-                    since(last_snapshot_) >= std::max(opts_.snapshot_seconds, kSnapshotCostFactor * last_snapshot_cost_))) {
-          snapshot();
-        }
-      }
+      run_jobs(jobs_done, stop_at, progress);
       progress.finish();
       st_.interrupted = jobs_done < stop_at;
       read_back();
@@ -468,6 +444,8 @@ class Wavefront {
     rp_.num_nodes = uint32_t(bvh_.nodes.size());
     max_batch_ = opts_.max_batch ? opts_.max_batch : 4u * pool_;
     max_batch_ = uint32_t(std::min<uint64_t>(max_batch_, sized_jobs));
+    // The ring holds two batches, and a job's three floats are indexed in 32 bits (kernels.cl).
+    max_batch_ = std::min<uint32_t>(max_batch_, 1u << 28);
 
     StageBuffers& b = buf_;
     b.sf = rt_.buffer("path state (float fields)", size_t(AW_SF_COUNT) * pool_ * 4);
@@ -490,12 +468,14 @@ class Wavefront {
     st_.pool_size = pool_;
     // All queues in one buffer: queue i at [i * pool, (i + 1) * pool).
     b.queues = rt_.buffer("queues", size_t(AW_Q_COUNT) * pool_ * 4);
-    b.counters = rt_.buffer("queue counters", AW_Q_COUNT * 4);
+    b.counters = rt_.buffer("queue counters", AW_C_COUNT * 4);
     // The queue each slot is in (kernels.cl: wg_append, stage_slot); all free at the start
-    // of every batch.
+    // of the render (run_jobs).
     b.tags = rt_.buffer("queue tags", size_t(pool_) * 4);
     b.stats = upload(rt_, "stats counters", std::vector<uint32_t>(AW_STAT_COUNT, 0), CL_MEM_READ_WRITE);
-    b.samples = rt_.buffer("batch samples", size_t(max_batch_) * 3 * 4);
+    // The batch ring (run_jobs): two halves of max_batch_ jobs, one when one batch is the render.
+    ring_jobs_ = total_jobs_ > max_batch_ ? 2 * max_batch_ : max_batch_;
+    b.samples = rt_.buffer("batch samples", size_t(ring_jobs_) * 3 * 4);
     // Zeroed on the device: a host vector of zeros the film's size would be allocated (and
     // filled) before the device could refuse a film too large for it.
     // (A resumed film is uploaded from the host; it exists there already.)
@@ -507,7 +487,7 @@ class Wavefront {
     const bool aovs = rp_.aov_mask != 0u;
     const size_t aov_film_bytes = size_t(npix_) * aov_film_channels(rp_.aov_mask) * 16;
     b.aov_state = rt_.buffer("AOVs: first-hit data", aovs ? size_t(AW_AOV_STATE) * pool_ * 4 : 4);
-    b.aov_samples = rt_.buffer("AOVs: batch reports", aovs ? size_t(max_batch_) * AW_AOV_FLOATS * 4 : 4);
+    b.aov_samples = rt_.buffer("AOVs: batch reports", aovs ? size_t(ring_jobs_) * AW_AOV_FLOATS * 4 : 4);
     b.aov_film = rt_.buffer("AOVs: film", aovs ? aov_film_bytes : 16, CL_MEM_READ_WRITE);
     if (aovs) st_.state_bytes += size_t(AW_AOV_STATE) * pool_ * 4;
     if (opts_.resume) {
@@ -550,8 +530,8 @@ class Wavefront {
     st_.instanced_triangles = scene_.rendered_triangle_count();
     st_.scene_bytes = bvh_.nodes.size() * sizeof(BvhNode) + bvh_.leaf_tris.size() * sizeof(LeafTriangle) +
                       packed_arrays_bytes(packed_);
-    st_.film_bytes = film_bytes + size_t(npix_) * 4 + size_t(max_batch_) * 3 * 4;  // film, counts, batch samples
-    if (aovs) st_.film_bytes += aov_film_bytes + size_t(max_batch_) * AW_AOV_FLOATS * 4;
+    st_.film_bytes = film_bytes + size_t(npix_) * 4 + size_t(ring_jobs_) * 3 * 4;  // film, counts, batch samples
+    if (aovs) st_.film_bytes += aov_film_bytes + size_t(ring_jobs_) * AW_AOV_FLOATS * 4;
     st_.device_bytes = rt_.allocated_bytes();
     identity_.resize(pool_);
     std::iota(identity_.begin(), identity_.end(), 0u);
@@ -655,6 +635,14 @@ class Wavefront {
     k.setArg(AW_ARG_job_start, job_start);
   }
 
+  // Whether a launch of stage s over n items is dense (see launch).
+  bool launches_dense(const Stage& s, size_t n) const {
+    const double dense_fraction = opts_.dense_fraction >= 0.0  ? opts_.dense_fraction
+                                  : &s == &stages_[regen_]    ? kRegenDenseFraction
+                                                              : kDenseFraction;
+    return s.dense_ok && double(n) >= dense_fraction * double(pool_);
+  }
+
   // Runs one stage over `n` items and waits, so its time is its own. Stages that append to
   // queues get the host's counters first and return the new ones. A queue holding at least
   // `dense_fraction` of the pool is consumed by a dense launch: one work-item per slot, in
@@ -672,10 +660,7 @@ class Wavefront {
     }
     auto t0 = Clock::now();
     const bool regen = &s == &stages_[regen_];
-    const double dense_fraction = opts_.dense_fraction >= 0.0 ? opts_.dense_fraction
-                                  : regen                     ? kRegenDenseFraction
-                                                              : kDenseFraction;
-    bool dense = s.dense_ok && double(n) >= dense_fraction * double(pool_);
+    const bool dense = launches_dense(s, n);
     // The lane regenerate hands out its jobs from the FREE counter, from 0 (kernels_lanes.cl);
     // the FREE queue's entries are not read, and run_batch drops them after this launch.
     if (dense && s.lanes_kernel() && regen) cnt_[AW_Q_FREE] = 0;
@@ -705,39 +690,135 @@ class Wavefront {
     return n;
   }
 
-  // One batch of jobs [jobs_done, jobs_done + batch): every issued job's sample lands in the
-  // film. Returns the number of jobs issued (fewer than `batch` when interrupted).
-  uint32_t run_batch(uint64_t jobs_done, uint32_t batch, ProgressLine& progress) {
+  // The batch ring. A batch is a run of jobs whose samples go to the film together
+  // (film_accumulate), at most max_batch_ of them; the samples (and AOV reports) of two batches
+  // fit in the ring's two halves, so the next batch's paths start in the slots that the last
+  // paths of the one before leave free, and the pool drains only at the end of the render.
+  // Why: a batch that waited for its last paths ran its last iterations on an ever smaller
+  // share of the pool, and the stages written on lanes cost per block of 16 slots, not per
+  // path: on an AVX-512 Xeon those tails were 5% of the Cornell box's render on Intel's
+  // runtime (one batch for the whole render measured 0.947x; docs/performance.md, "The batch
+  // ring"). accumulate counts each half's finished jobs (AW_C_FINISHED), and a batch goes to
+  // the film, oldest first, once all its issued jobs have finished; the time limit, the
+  // checkpoints and the snapshots are taken there, as at the end of a batch before.
+  struct Batch {
+    uint64_t first = 0;   // its first job (of the render's jobs)
+    uint32_t size = 0;    // its jobs (cut to those issued when issuing stops)
+    uint32_t issued = 0;  // its jobs started so far
+    uint32_t base = 0;    // its half of the ring: jobs base .. base + size - 1 there
+  };
+
+  // RenderParams' batch fields for batch b: ring index base + i is the batch's job i
+  // (kernels/types/scene.h: batch_pixel + j maps to the pixel, in uint arithmetic).
+  void set_batch_params(const Batch& b, uint32_t jobs) {
+    const uint64_t c = (uint64_t(b.base) + npix_ - 1) / npix_;  // whole passes of pixels at or above base
+    rp_.batch_pixel = uint32_t(b.first % npix_ + c * npix_ - b.base);
+    rp_.batch_sample = first_sample_ + uint32_t(b.first / npix_) - uint32_t(c);
+    rp_.job_count = jobs;
+  }
+
+  // Jobs [jobs_done, stop_at) through the pool: every issued job's sample lands in the film,
+  // and jobs_done counts them. An interrupt stops new paths; the ones in flight finish
+  // (bounded by max_depth), so every job issued lands in the film.
+  void run_jobs(uint64_t& jobs_done, uint64_t& stop_at, ProgressLine& progress) {
     auto& q = rt_.queue();
-    rp_.batch_pixel = uint32_t(jobs_done % npix_);
-    rp_.batch_sample = first_sample_ + uint32_t(jobs_done / npix_);
-    rp_.job_count = batch;
     q.enqueueWriteBuffer(buf_.queues, CL_TRUE, size_t(AW_Q_FREE) * pool_ * 4, size_t(pool_) * 4, identity_.data());
     q.enqueueFillBuffer(buf_.tags, uint32_t(AW_Q_FREE), 0, size_t(pool_) * 4);
-    std::fill(cnt_, cnt_ + AW_Q_COUNT, 0u);
+    std::fill(cnt_, cnt_ + AW_C_COUNT, 0u);
     cnt_[AW_Q_FREE] = pool_;
-    uint32_t next_job = 0, issue_limit = batch;
+    untracked_free_ = 0;
+    std::deque<Batch> ring;  // oldest first: at most two
+    uint64_t next_first = jobs_done, issued = jobs_done;
+    bool issuing = true;
+    auto last_checkpoint = Clock::now();
     for (;;) {
-      // An interrupt stops new paths; the ones in flight finish (bounded by max_depth), so
-      // every job issued so far lands in the film.
-      if (cancelled()) issue_limit = next_job;
-      uint32_t take = std::min(cnt_[AW_Q_FREE], issue_limit - next_job);
-      if (take) {
-        launch(stages_[regen_], take, next_job);
-        next_job += take;
+      // Batches whose every issued path has ended go to the film, oldest first.
+      while (!ring.empty()) {
+        Batch& b = ring.front();
+        if (!issuing && b.issued < b.size) b.size = b.issued;
+        if (b.issued < b.size || cnt_[AW_C_FINISHED + (b.base != 0)] != b.issued) break;
+        set_batch_params(b, b.issued);
+        launch(stages_[film_], npix_, b.base);
+        jobs_done += b.issued;
+        ring.pop_front();
+        progress.update(jobs_done);
+        if (!issuing) continue;
+        if (opts_.time_limit > 0.0 && stop_at == total_jobs_ && since(t_start_) >= opts_.time_limit) {
+          // The end of the sample pass of the last job issued; the open batch ends there.
+          stop_at = std::min(total_jobs_, (issued + npix_ - 1) / npix_ * npix_);
+          st_.time_limited = stop_at < total_jobs_;
+          if (st_.time_limited) progress.set_note("time limit: finishing this sample pass");
+          if (!ring.empty() && ring.back().first + ring.back().size > stop_at)
+            ring.back().size = uint32_t(stop_at - ring.back().first);
+          next_first = std::min(next_first, stop_at);
+        }
+        if (jobs_done >= stop_at) continue;
+        if (opts_.checkpoint && opts_.checkpoint_seconds > 0.0 && since(last_checkpoint) >= opts_.checkpoint_seconds) {
+          read_film();
+          opts_.checkpoint(res_);
+          ++st_.checkpoints;
+          progress.set_note("checkpoint " + std::to_string(st_.checkpoints) + " written");
+          last_checkpoint = Clock::now();
+        } else if (opts_.snapshot_seconds == 0.0 ||
+                   (opts_.snapshot_seconds > 0.0 &&
+                    since(last_snapshot_) >= std::max(opts_.snapshot_seconds, kSnapshotCostFactor * last_snapshot_cost_))) {
+          snapshot();
+        }
       }
-      cnt_[AW_Q_FREE] = 0;  // leftover free slots only remain when no jobs are left
+      if (cancelled()) issuing = false;
+      if (issuing) issue(ring, next_first, issued, stop_at);
       if (in_flight() == 0) {
-        if (next_job >= issue_limit) break;
-        // No path in flight and jobs left means slots were lost: a broken scheduling rule.
-        throw std::logic_error("wavefront: no path in flight but jobs remain (a stage lost a path)");
+        if (ring.empty() && (!issuing || next_first >= stop_at)) return;
+        // Every issued path has ended, so the ring's batches go to the film at the top of the
+        // loop, and then the next ones start; a batch still waiting for paths, or jobs left
+        // with no batch to take them, means a stage lost a path.
+        bool all_finished = true;
+        for (const Batch& b : ring) all_finished = all_finished && cnt_[AW_C_FINISHED + (b.base != 0)] == b.issued;
+        if (!all_finished || ring.empty())
+          throw std::logic_error("wavefront: no path in flight but jobs remain (a stage lost a path)");
+        continue;
       }
       run_iteration();
-      progress.update(jobs_done + next_job - std::min(next_job, in_flight()));
+      progress.update(issued - std::min<uint64_t>(issued, in_flight()));
     }
-    rp_.job_count = next_job;
-    launch(stages_[film_], npix_);
-    return next_job;
+  }
+
+  // regenerate: the free slots take the next jobs, of the open batch and then of a new one in
+  // the ring's other half, one launch per batch. The queue form takes the last entries of the
+  // FREE queue (kernels.cl), so what it leaves stays queued; the lane form takes FREE-tagged
+  // slots (kernels_lanes.cl), whatever the queue holds, and the FREE slots it leaves are
+  // counted in untracked_free_ for the next dense launch.
+  void issue(std::deque<Batch>& ring, uint64_t& next_first, uint64_t& issued, uint64_t stop_at) {
+    Stage& s = stages_[regen_];
+    for (;;) {
+      const uint32_t free_total = cnt_[AW_Q_FREE] + untracked_free_;
+      if (free_total == 0) return;
+      if (ring.empty() || ring.back().issued == ring.back().size) {
+        if (next_first >= stop_at || ring.size() == 2) return;
+        Batch b;
+        b.first = next_first;
+        b.size = uint32_t(std::min<uint64_t>(max_batch_, stop_at - next_first));
+        b.base = ring.empty() || ring.front().base != 0 ? 0u : max_batch_;
+        cnt_[AW_C_FINISHED + (b.base != 0)] = 0;
+        ring.push_back(b);
+        next_first += b.size;
+      }
+      Batch& b = ring.back();
+      const uint32_t want = std::min(free_total, b.size - b.issued);
+      const bool dense = launches_dense(s, want);
+      const uint32_t take = dense ? want : std::min(want, cnt_[AW_Q_FREE]);
+      if (take == 0) return;  // free slots only the lane form sees, too few for it: they wait
+      set_batch_params(b, b.size);
+      launch(s, take, b.base + b.issued);
+      if (dense) {
+        untracked_free_ = free_total - take;
+        cnt_[AW_Q_FREE] = 0;
+      } else {
+        cnt_[AW_Q_FREE] -= take;
+      }
+      b.issued += take;
+      issued += take;
+    }
   }
 
   // Every stage once, in queue order: each consumes the whole queue it reads.
@@ -758,7 +839,7 @@ class Wavefront {
     st_.shadow_rays += n_shadow;
     launch(stages_[shadow_], n_shadow);
     cnt_[AW_Q_SHADOW] = 0;
-    launch(stages_[accum_], cnt_[AW_Q_DONE]);
+    launch(stages_[accum_], cnt_[AW_Q_DONE], max_batch_);  // job_start: the ring's half (AW_C_FINISHED)
     cnt_[AW_Q_DONE] = 0;
   }
 
@@ -806,7 +887,7 @@ class Wavefront {
   bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
   bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
   RenderParams rp_{};
-  uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0;
+  uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0, ring_jobs_ = 0;
   uint32_t first_sample_ = 0;  // the sample of job 0 (begin_film)
   Clock::time_point t_start_ = Clock::now();
   uint64_t total_jobs_ = 0;
@@ -815,7 +896,8 @@ class Wavefront {
   std::vector<Stage> stages_;
   size_t regen_ = 0, isect_ = 0, classify_ = 0, ao_ = 0, shadow_ = 0, accum_ = 0, film_ = 0;
   size_t shade_[AW_LID_COUNT] = {};
-  uint32_t cnt_[AW_Q_COUNT] = {};  // the host's copy of the queue counters
+  uint32_t cnt_[AW_C_COUNT] = {};  // the host's copy of the queue counters (and AW_C_FINISHED)
+  uint32_t untracked_free_ = 0;    // FREE-tagged slots not in the FREE queue (issue)
   Clock::time_point last_snapshot_ = Clock::now();
   double last_snapshot_cost_ = 0.0;
   bool film_kept_ = true;  // res_ holds a whole film (begin_film's, or a finished snapshot)

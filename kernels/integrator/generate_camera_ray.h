@@ -1,4 +1,4 @@
-// From: FREE (a slot and a batch-local job) / To: RAY.
+// From: FREE (a slot and a job of the batch ring) / To: RAY.
 // Starts a camera path: pinhole camera, pixel jittered uniformly within its footprint.
 #ifndef AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
 #define AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
@@ -13,8 +13,8 @@
 // kernel_regenerate_lanes), each live lane with its own job.
 AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, luint job) {
   uint npix = rp->win_w * rp->win_h;
-  // Batch-local job -> (film pixel, sample), see RenderParams. (batch_pixel < npix, so the sum
-  // cannot overflow for any batch that fits in memory.) The film pixel is one of the window's;
+  // The job's index in the batch ring -> (film pixel, sample), see RenderParams. (batch_pixel
+  // < 2 npix + the ring's half size, so the sum cannot overflow for any ring that fits in memory.) The film pixel is one of the window's;
   // the path carries the frame's pixel index, which the sampler sees, so a window's pixels
   // get exactly the random numbers they get in the whole frame.
   luint k = rp->batch_pixel + job;

@@ -34,7 +34,10 @@ AW_STAGE_KERNEL_SCALAR(kernel_regenerate) {
   uint q = AW_Q_COUNT;
   uint slot = 0u;
   if (i < count) {
-    slot = AW_QUEUE(AW_Q_FREE)[i];
+    // The last `count` entries of the FREE queue (counters[AW_Q_FREE] of them, which this
+    // launch does not change), so that the entries left over stay at its front for the next
+    // launch: the batch ring starts the next batch in the same iteration (host/render/wavefront.cpp).
+    slot = AW_QUEUE(AW_Q_FREE)[counters[AW_Q_FREE] - count + i];
     generate_camera_ray(AW_STAGE_PATH(slot), &rp, job_start + i);
     q = AW_Q_RAY;
   }
@@ -91,11 +94,14 @@ AW_STAGE_KERNEL_SCALAR(kernel_intersect_shadow) {
 }
 
 // A split path (integrator/split.h) goes back to its first-hit lobe queue until its last
-// split ends; only then does the job's value (the mean of the splits) reach `samples`.
+// split ends; only then does the job's value (the mean of the splits) reach `samples`, and the
+// job counts as finished in its half of the batch ring (`job_start`: the half's size;
+// AW_C_FINISHED, integrator/queues.h), counted with the group's appends.
 AW_STAGE_KERNEL_SCALAR(kernel_accumulate) {
   AW_APPEND_LOCALS;
   uint slot = 0u;
   uint q = AW_Q_COUNT;
+  uint finished = AW_C_COUNT;  // none
   if (AW_STAGE_SLOT(AW_Q_DONE, slot)) {
     PathRef ps = AW_STAGE_PATH(slot);
     float3 l;
@@ -108,9 +114,10 @@ AW_STAGE_KERNEL_SCALAR(kernel_accumulate) {
       samples[job * 3u + 0u] = l.x;
       samples[job * 3u + 1u] = l.y;
       samples[job * 3u + 2u] = l.z;
+      finished = AW_C_FINISHED + (job >= job_start ? 1u : 0u);
     }
   }
-  AW_APPEND(q, slot);
+  AW_APPEND_COUNTING(q, slot, finished);
 }
 
 // Adds a finished batch to the film, one work-item per pixel (integrator/film.h: exact sums,
@@ -122,11 +129,12 @@ AW_STAGE_KERNEL_SCALAR(kernel_film_accumulate) {
   uint p = get_global_id(0);
   uint npix = rp.win_w * rp.win_h;
   if (p >= npix) return;
-  uint i = (p + npix - rp.batch_pixel) % npix;  // first batch-local job of pixel p
+  // The batch's jobs are job_start .. job_start + job_count - 1 of the ring (RenderParams).
+  uint i = job_start + (p + npix - (rp.batch_pixel + job_start) % npix) % npix;  // pixel p's first
   uint s = rp.batch_sample + (rp.batch_pixel + i) / npix;  // its sample index
   uint n = film_count[p];
   uint aov_ch = aov_on(&rp) ? aov_film_channels(rp.aov_mask) : 0u;
-  for (; i < rp.job_count; i += npix, ++s) {
+  for (; i < job_start + rp.job_count; i += npix, ++s) {
     if (s != rp.sample_start + n) continue;  // held already (a resumed film)
     film_add(film + (size_t)p * AW_FILM_WORDS, make_float3(samples[i * 3u + 0u], samples[i * 3u + 1u], samples[i * 3u + 2u]));
     if (aov_ch) film_add_aovs(aov_film + (size_t)p * aov_ch * 2u, aov_samples + (size_t)i * AW_AOV_FLOATS, rp.aov_mask);

@@ -24,7 +24,7 @@ typedef struct {
   ulong missing;  // paths that met a feature the build lacks
 } MegakernelCounts;
 
-// Runs batch-local job `job` (RenderParams: pixel and sample) to its end and returns its
+// Runs job `job` of the batch ring (RenderParams: pixel and sample) to its end and returns its
 // sample value, which is what the wavefront's accumulate stage writes to samples[job], and
 // with AOVs its report in aov[0, AW_AOV_FLOATS) (aov_samples[job] there).
 AW_FN float3 megakernel_path(PathRef ps, SceneRef sc, const RenderParams* rp, uint job, MegakernelCounts* c, AW_GLOBAL float* aov) {

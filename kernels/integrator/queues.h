@@ -26,6 +26,15 @@ enum {
   AW_Q_COUNT = AW_Q_LOBE + AW_LID_COUNT
 };
 
+// The counters buffer holds the queues' entry counts, then the jobs finished per half of the
+// batch ring (host/render/wavefront.cpp, "The batch ring"): accumulate adds a job whose sample
+// is final to AW_C_FINISHED + (job >= the ring's half size), so the host knows when a batch's
+// last path has ended and its samples can go to the film while the next batch's paths run.
+enum {
+  AW_C_FINISHED = AW_Q_COUNT,
+  AW_C_COUNT = AW_C_FINISHED + 2
+};
+
 // Slots of the stats counters buffer (integers only: nothing float is accumulated atomically).
 enum {
   AW_STAT_BAD_SAMPLES,

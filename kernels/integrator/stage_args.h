@@ -12,15 +12,16 @@
 #define AW_STAGE_ARGS(VALUE, BUFFER)                                                        \
   VALUE(uint, count)      /* items in the launch: queue entries, or pixels (film) */        \
   VALUE(uint, dense)      /* 1: one work-item per pool slot, in slot order (kernels.cl) */  \
-  VALUE(uint, job_start)  /* regenerate: the batch-local job of its first item */           \
+  VALUE(uint, job_start)  /* regenerate: the job of its first item; accumulate: the batch \
+                             ring's half size; film_accumulate: its batch's first job */  \
   BUFFER(float, sf)       /* path state, float fields (integrator/state_template.h) */     \
   BUFFER(uint, su)        /* path state, uint fields */                                     \
   BUFFER(uint, queues)    /* queue q at [q * pool, (q + 1) * pool) */                       \
-  BUFFER(uint, counters)  /* one entry count per queue */                                   \
+  BUFFER(uint, counters)  /* one entry count per queue, then AW_C_FINISHED (queues.h) */     \
   BUFFER(uint, tags)      /* the queue each slot is in (dense launches) */                  \
   BUFFER(float, snap_f)   /* lobe splitting's first-hit snapshots (integrator/split.h) */   \
   BUFFER(uint, snap_u)                                                                      \
-  BUFFER(float, samples)  /* the batch's sample values, 3 floats per job */                 \
+  BUFFER(float, samples)  /* the batch ring's sample values, 3 floats per job */           \
   BUFFER(uint, stats)     /* AW_STAT_* counters (integrator/queues.h) */                    \
   BUFFER(ulong, film)     /* per-pixel exact sums, AW_FILM_WORDS (integrator/film.h) */   \
   BUFFER(uint, film_count)                                                                  \

@@ -95,14 +95,17 @@ static inline SceneRef scene_ref_make(const __global TriangleInfo* tri_info, con
 // It also records the queue in the slot's tag (tags[slot]), which is what a dense launch of
 // the queue's consumer tests (see stage_slot below). SHADOW is not a tag: a path in it is
 // also in a main queue, and the consumer tests AW_PATH_HAS_SHADOW instead.
+// `c` (AW_C_FINISHED + half, integrator/queues.h; AW_C_COUNT for none) is a counter without a
+// queue that the item adds one to, in the same aggregation: accumulate's finished jobs.
 static inline void wg_append(__global uint* counters, __global uint* queues, __global uint* tags, uint pool,
-                             uint q, uint slot, __local uint* l_n, __local uint* l_base) {
+                             uint q, uint slot, uint c, __local uint* l_n, __local uint* l_base) {
   uint lid = get_local_id(0);
-  if (lid < AW_Q_COUNT) l_n[lid] = 0u;
+  if (lid < AW_C_COUNT) l_n[lid] = 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   uint off = q < AW_Q_COUNT ? atomic_inc(&l_n[q]) : 0u;
+  if (c >= AW_Q_COUNT && c < AW_C_COUNT) atomic_inc(&l_n[c]);
   barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid < AW_Q_COUNT) l_base[lid] = l_n[lid] > 0u ? atomic_add(&counters[lid], l_n[lid]) : 0u;
+  if (lid < AW_C_COUNT) l_base[lid] = l_n[lid] > 0u ? atomic_add(&counters[lid], l_n[lid]) : 0u;
   barrier(CLK_LOCAL_MEM_FENCE);
   if (q < AW_Q_COUNT) {
     queues[q * pool + l_base[q] + off] = slot;
@@ -110,8 +113,10 @@ static inline void wg_append(__global uint* counters, __global uint* queues, __g
   }
   barrier(CLK_LOCAL_MEM_FENCE);  // l_n / l_base are reused by the next append
 }
-#define AW_APPEND(q, slot) wg_append(counters, queues, tags, rp.pool_size, (q), (slot), l_n, l_base)
-#define AW_APPEND_LOCALS __local uint l_n[AW_Q_COUNT], l_base[AW_Q_COUNT]
+#define AW_APPEND(q, slot) wg_append(counters, queues, tags, rp.pool_size, (q), (slot), AW_C_COUNT, l_n, l_base)
+#define AW_APPEND_COUNTING(q, slot, c) \
+  wg_append(counters, queues, tags, rp.pool_size, (q), (slot), (c), l_n, l_base)
+#define AW_APPEND_LOCALS __local uint l_n[AW_C_COUNT], l_base[AW_C_COUNT]
 
 // Which slot work-item i works on, and whether it has one. A queue launch (dense == 0) runs
 // `count` work-items over the queue's entries. A dense launch (dense != 0) runs one work-item

@@ -48,7 +48,7 @@ AW_STATE_F(sh_dx) AW_STATE_F(sh_dy) AW_STATE_F(sh_dz)
 AW_STATE_F(sh_tmax)
 AW_STATE_F(sh_r) AW_STATE_F(sh_g) AW_STATE_F(sh_b)
 
-AW_STATE_U(job)       /* batch-local job index: where the result goes */
+AW_STATE_U(job)       /* the job's index in the batch ring: where the result goes */
 AW_STATE_U(pixel)
 AW_STATE_U(sample)
 AW_STATE_U(bounce)    /* scattering events so far = index of the vertex being shaded */

@@ -86,9 +86,12 @@ typedef struct {
   uint pool_size;
   uint rr_depth;      // first bounce at which Russian roulette may end a path
   // Jobs are (pixel, sample) pairs in sample-major order. A batch is a contiguous run of
-  // jobs starting at (batch_pixel, batch_sample); local job i of the batch is film pixel
-  // (batch_pixel + i) % pixels of sample batch_sample + (batch_pixel + i) / pixels, where
-  // pixels = win_w * win_h (the film's window, below).
+  // jobs, placed in the batch ring (host/render/wavefront.cpp) at its indices job_start ..
+  // job_start + job_count - 1; ring index j is film pixel (batch_pixel + j) % pixels of sample
+  // batch_sample + (batch_pixel + j) / pixels, where pixels = win_w * win_h (the film's
+  // window, below). The host chooses batch_pixel (below 2 pixels + the ring's half size) and
+  // batch_sample (in uint arithmetic, which wraps) so that j = job_start is the batch's first
+  // job; with job_start = 0, batch_pixel < pixels is the batch's first pixel.
   // Kept as two 32-bit numbers so a 4K render at thousands of spp does not overflow.
   uint batch_pixel;
   uint batch_sample;

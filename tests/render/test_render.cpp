@@ -128,6 +128,17 @@ TEST(Determinism, SameSeedBitIdenticalAcrossPoolSizes) {
   b.max_batch = 7777;  // batches that start mid-image
   aw::RenderResult r3 = aw::render_wavefront(scene, b);
   EXPECT_TRUE(same_bits(r1, r3));
+  // The batch ring (wavefront.cpp, run_jobs) with batches far smaller than the pool, one path
+  // per work-item: both halves of the ring are busy most of the time, and the free slots that
+  // regenerate leaves stay queued for the next batch (kernels.cl takes the FREE queue's last
+  // entries); every job lands in the film once.
+  aw::RenderOptions c = quiet_options();
+  c.lanes = false;
+  c.pool_size = 1024;
+  c.max_batch = 100;
+  aw::RenderResult r4 = aw::render_wavefront(scene, c);
+  EXPECT_EQ(r4.stats.samples, 96u * 96u * 8u);
+  EXPECT_TRUE(same_bits(r1, r4));
 }
 
 // Dense launches (a queue consumed in slot order by one work-item per pool slot, see
