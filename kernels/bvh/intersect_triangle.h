@@ -168,8 +168,8 @@ AW_FN lmask intersect_triangle(lfloat3 org, RayShear s, float3 v0, float3 v1, fl
   // of an incoherent packet hits a triangle is close to a coin toss, and the branch on it was
   // mispredicted often enough that computing t for every lane costs less (Intel's runtime, an
   // AVX-512 EPYC: intersect_closest 0.874x, intersect_shadow 0.920x the time, the Cornell box
-  // 0.939x; PoCL level; films bit for bit the same: docs/performance.md, "The triangle test
-  // without its early exit"). The lanes that miss compute values the caller never takes
+  // 0.939x; PoCL level; films bit for bit the same: docs/performance.md, "On an AMD EPYC with
+  // AVX-512 (Zen 4)"). The lanes that miss compute values the caller never takes
   // (bvh/traverse_lanes.h selects by `hit`), and no_plane below is only the hits'.
 #if AW_LANES == 1
   if (!L_ANY(hit)) return hit;
