@@ -664,7 +664,13 @@ class Wavefront {
     // The lane regenerate hands out its jobs from the FREE counter, from 0 (kernels_lanes.cl);
     // the FREE queue's entries are not read, and run_batch drops them after this launch.
     if (dense && s.lanes_kernel() && regen) cnt_[AW_Q_FREE] = 0;
-    if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_TRUE, 0, sizeof cnt_, cnt_);
+    // Not blocking: the queue is in order, so the kernel below sees these counters, and cnt_ is
+    // not touched again before the blocking read after the kernel has overwritten it. A
+    // blocking write made the host wait for the copy before it could enqueue the kernel: one
+    // round trip per appending launch, over the bus on a GPU. On the CPU devices it measured
+    // level (Intel's runtime, Zen 4 EPYC: render 0.987x and 1.007x, 8 pairs each;
+    // docs/performance.md, "Counters written without waiting").
+    if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_FALSE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
       // The lane form: pool / kLaneSpan work-items of that many consecutive slots each, in
       // groups of lane_wg_ (lane_work_group).
