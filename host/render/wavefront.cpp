@@ -54,6 +54,18 @@ constexpr uint32_t kLanes = 16;  // paths per vector of the lane program (kernel
 // 0.94x; the groups kept at the same paths, lane_work_group); 512 gained 1.4% more on Intel's
 // runtime (docs/performance.md, "Appends per sixteen blocks").
 constexpr uint32_t kLaneSpan = 256;
+// Slots per work-item of the sorted closest-hit kernel (kernels_lanes.cl,
+// kernel_intersect_closest_sorted, -DAW_SORT_SPAN), one work-item per group: the more rays a
+// sort sees, the more alike the rays of each block (Cornell box, triangle tests per block of 16:
+// 12.2 over 256 slots, 9.0 over 2,048, 8.3 over 4,096, 7.5 over 16,384; docs/performance.md,
+// "Rays sorted before the closest hit"), while a pool of 65,536 still gives 16 work-items for
+// the runtime to share out.
+constexpr uint32_t kSortSpan = 4096;
+// The fewest primitives for which intersect_closest sorts its rays: where the whole tree is a
+// root and a few leaves the blocks have little to share and the sort is all cost (race_spheres,
+// 4 triangles and 3 spheres: the stage 1.17x its time unsorted; race_small_light, 21
+// primitives: 0.92x; the Cornell box, 34: 0.86x; Intel's runtime, Zen 4 EPYC).
+constexpr size_t kSortMinPrimitives = 16;
 static_assert(kWorkGroup % kLaneSpan == 0, "the pool, a multiple of the group, is whole work-items of the lane program");
 constexpr double kDenseFraction = 0.25;  // see Wavefront::launch
 // regenerate's lane form runs over the whole pool whatever its count, while its queue form
@@ -133,6 +145,8 @@ struct Stage {
   bool appends = false;
   cl::Kernel kernel;     // null for a lobe this build lacks
   cl::Kernel lanes_kernel;  // its lane form (kernels_lanes.cl), for dense launches; null: none
+  uint32_t lanes_span = 0;  // slots per work-item of lanes_kernel (kLaneSpan when 0)
+  uint32_t lanes_group = 0; // its work-group size (the lane programs' lane_wg_ when 0)
   double seconds = 0.0;
   uint64_t items = 0;    // paths (pixels for film_accumulate) processed: throughput per stage
 };
@@ -353,7 +367,7 @@ class Wavefront {
   // every stage runs one path per work-item, and the stats say why.
   void build_lanes_program(const FeatureSet& need, const std::string& options) {
     classify_on_lanes_ = false;
-    closest_on_lanes_ = shadow_on_lanes_ = false;
+    closest_on_lanes_ = closest_sorted_ = shadow_on_lanes_ = false;
     if (!opts_.lanes) {
       st_.lanes = "off (--no-lanes)";
       return;
@@ -374,7 +388,8 @@ class Wavefront {
     }
     std::string src = assemble_kernel_source("integrator/kernels_lanes.cl", opts_.kernel_dir);
     auto build_at = [&](uint32_t w) {
-      return rt_.build(src, options + " -DAW_LANES=" + std::to_string(w) + " -DAW_LANE_BLOCKS=" + std::to_string(kLaneSpan / w));
+      return rt_.build(src, options + " -DAW_LANES=" + std::to_string(w) + " -DAW_LANE_BLOCKS=" + std::to_string(kLaneSpan / w) +
+                                " -DAW_SORT_SPAN=" + std::to_string(kSortSpan));
     };
     lanes_program_ = build_at(kLanes);
     narrow_lanes_ = narrow_lane_width(rt_.info(), opts_.narrow_lanes);
@@ -404,6 +419,7 @@ class Wavefront {
     if (rays_why.empty() && opts_.lane_traversal < 0 && primitives > limit.closest) rays_why = too_many(limit.closest);
     if (shadow_why.empty() && opts_.lane_traversal < 0 && primitives > limit.shadow) shadow_why = too_many(limit.shadow);
     closest_on_lanes_ = rays_why.empty();
+    closest_sorted_ = closest_on_lanes_ && primitives >= kSortMinPrimitives;
     shadow_on_lanes_ = shadow_why.empty();
     // The stages in pipeline order; with a narrow program, its stages after a "; 8:".
     std::string narrow;
@@ -412,7 +428,7 @@ class Wavefront {
     };
     st_.lanes = std::to_string(kLanes) + " paths per work-item:";
     name(false, "regenerate");
-    if (closest_on_lanes_) name(true, "intersect_closest");
+    if (closest_on_lanes_) name(true, closest_sorted_ ? "intersect_closest(sorted)" : "intersect_closest");
     if (classify_on_lanes_) name(true, "classify_hit");
 #define AW_LANES_STAGE_NAME(ID, name_, FEATURE, TRAITS) name(false, "shade_" #name_);
     AW_LOBE_LIST_ON_LANES(AW_LANES_STAGE_NAME)
@@ -563,7 +579,13 @@ class Wavefront {
     isect_ = add("intersect_closest", AW_Q_RAY, true, false, true);
     if (closest_on_lanes_) {
       Stage& s = stages_[isect_];
-      s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_intersect_closest_lanes");
+      if (closest_sorted_) {
+        s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_intersect_closest_sorted");
+        s.lanes_span = kSortSpan;
+        s.lanes_group = 1;
+      } else {
+        s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_intersect_closest_lanes");
+      }
       bind_stage_args(s.lanes_kernel, buf_);
     }
     classify_ = add("classify_hit", AW_Q_RAY, true, true, true);
@@ -617,8 +639,9 @@ class Wavefront {
         RenderParams warm = rp_;
         warm.pool_size = 0;
         set_launch_args(s.lanes_kernel, warm, 0, false, 0);
-        for (size_t global : {size_t(lane_wg_), size_t(1) << 17})
-          rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(lane_wg_));
+        const size_t group = lanes_group(s);
+        for (size_t global : {group, size_t(1) << 17})
+          rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(global), cl::NDRange(group));
       }
     }
     rt_.queue().finish();
@@ -634,6 +657,8 @@ class Wavefront {
     k.setArg(AW_ARG_dense, uint32_t(dense));
     k.setArg(AW_ARG_job_start, job_start);
   }
+
+  size_t lanes_group(const Stage& s) const { return s.lanes_group ? s.lanes_group : lane_wg_; }
 
   // Whether a launch of stage s over n items is dense (see launch).
   bool launches_dense(const Stage& s, size_t n) const {
@@ -672,11 +697,13 @@ class Wavefront {
     // docs/performance.md, "Counters written without waiting").
     if (s.appends) rt_.queue().enqueueWriteBuffer(buf_.counters, CL_FALSE, 0, sizeof cnt_, cnt_);
     if (dense && s.lanes_kernel()) {
-      // The lane form: pool / kLaneSpan work-items of that many consecutive slots each, in
-      // groups of lane_wg_ (lane_work_group).
+      // The lane form: a work-item per span of consecutive slots (kLaneSpan, or the stage's
+      // own), in groups of lane_wg_ (lane_work_group) or the stage's own size.
       set_launch_args(s.lanes_kernel, rp_, uint32_t(n), true, job_start);
-      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange, cl::NDRange(pad_to_group(pool_ / kLaneSpan, lane_wg_)),
-                                       cl::NDRange(lane_wg_));
+      const uint32_t span = s.lanes_span ? s.lanes_span : kLaneSpan;
+      const size_t group = lanes_group(s);
+      rt_.queue().enqueueNDRangeKernel(s.lanes_kernel, cl::NullRange,
+                                       cl::NDRange(pad_to_group((pool_ + span - 1) / span, group)), cl::NDRange(group));
     } else {
       set_launch_args(s, uint32_t(n), dense, job_start);
       size_t global = dense ? size_t(pool_) : pad_to_group(n);  // pool is a multiple of the group
@@ -890,6 +917,7 @@ class Wavefront {
   uint32_t narrow_lanes_ = kLanes;
   uint32_t lane_wg_ = kWorkGroup;  // the lane programs' work-group size (lane_work_group)
   bool classify_on_lanes_ = false;  // its classify_hit too (build_lanes_program)
+  bool closest_sorted_ = false;     // and sorts its rays first (kSortMinPrimitives)
   bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
   bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
   RenderParams rp_{};
