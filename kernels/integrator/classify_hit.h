@@ -519,8 +519,10 @@ AW_FN luint classify_choose_lobe(PathRef ps, MatL m, const RenderParams* rp, lfl
   } else {
     lw = material_lobe_weights_f(m, (lfloat)(0.0f), (lfloat)(0.0f), front);
   }
-  // Refraction past its depth returns black (docs/material.md §5).
-  lw.prob[AW_LID_REFRACTION] =
+  // Refraction past its depth returns black (docs/material.md §5). (Without the refraction
+  // feature its probability is 0 already, and the depths are not kept.)
+  if (AW_FEAT_REFRACTION)
+    lw.prob[AW_LID_REFRACTION] =
       L_SEL((PS_LU(ps, depths) >> 16) >= MAT_U(m, refr_depth), (lfloat)(0.0f), lw.prob[AW_LID_REFRACTION]);
   lfloat total = (lfloat)(0.0f);
   for (uint i = 0; i < AW_LID_COUNT; ++i) total += lw.prob[i];

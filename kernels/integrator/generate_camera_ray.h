@@ -3,6 +3,7 @@
 #ifndef AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
 #define AW_INTEGRATOR_GENERATE_CAMERA_RAY_H
 
+#include "common/features.h"
 #include "common/rng.h"
 #include "integrator/aov.h"
 #include "integrator/path_state.h"
@@ -41,14 +42,20 @@ AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, luint job) {
   PS_SET_U(ps, bounce, (luint)(0u));
   PS_SET_U(ps, flags, (luint)(0u));
   PS_SET_F(ps, emit_scale, (lfloat)(1.0f));
-  PS_SET_F(ps, eta_scale, (lfloat)(1.0f));
-  PS_SET_U(ps, depths, (luint)(0u));
-  PS_SET_U(ps, medium, (luint)(AW_NONE));  // cameras start outside every object
-  // The ray cone of a pixel: zero width at the pinhole, the pixel's angle as its spread
-  // (Akenine-Möller et al. 2019, Ray Tracing Gems ch. 20, Sec. 20.3.4: gamma_0 from the
-  // vertical field of view and the image height).
-  PS_SET_F(ps, cone_w, (lfloat)(0.0f));
-  PS_SET_F(ps, cone_s, (lfloat)(2.0f * rp->tan_half_fov / (float)rp->height));
+  // The fields below are read only by the features named beside them; a build without those
+  // features neither reads nor writes them (design principle 4, docs/design.md: kernels model
+  // only what the scene requires; a camera path on lanes writes a cache line per field per 16
+  // paths, docs/performance.md, "State fields a scene does not use").
+  if (AW_FEAT_REFRACTION) PS_SET_F(ps, eta_scale, (lfloat)(1.0f));  // Russian roulette's eta^2
+  if (AW_FEAT_REFLECTION | AW_FEAT_REFRACTION) PS_SET_U(ps, depths, (luint)(0u));  // trace depths
+  if (AW_FEAT_FOG) PS_SET_U(ps, medium, (luint)(AW_NONE));  // cameras start outside every object
+  // The ray cone of a pixel, for texture filtering: zero width at the pinhole, the pixel's
+  // angle as its spread (Akenine-Möller et al. 2019, Ray Tracing Gems ch. 20, Sec. 20.3.4:
+  // gamma_0 from the vertical field of view and the image height).
+  if (AW_FEAT_TEXTURE) {
+    PS_SET_F(ps, cone_w, (lfloat)(0.0f));
+    PS_SET_F(ps, cone_s, (lfloat)(2.0f * rp->tan_half_fov / (float)rp->height));
+  }
 #if AW_LANES == 1
   aov_begin(ps, rp);  // the lane program is built only for renders without AOVs
 #endif

@@ -3,6 +3,7 @@
 #ifndef AW_INTEGRATOR_SHADE_COMMON_H
 #define AW_INTEGRATOR_SHADE_COMMON_H
 
+#include "common/features.h"
 #include "common/ray.h"
 #include "common/rng.h"
 #include "common/sampling.h"
@@ -72,12 +73,14 @@ AW_FN luint shade_continue(PathRef ps, const RenderParams* rp, lfloat3 p, lfloat
   // 1/eta^2 itself; docs/architecture.md#russian-roulette): entering glass of index 1.5 scales radiance
   // by 1/2.25 and leaving it undoes that, so a path inside would otherwise be killed 56% of
   // the time for a factor that cancels. Thin walls and reflections leave eta_scale at 1.
-  lfloat eta_scale = PS_LF(ps, eta_scale) * s.eta_scale;
+  // Only refraction changes eta_scale (lobes/refraction.h); without it the factor is 1 and
+  // the field is neither read nor written (generate_camera_ray.h).
+  lfloat eta_scale = AW_FEAT_REFRACTION ? PS_LF(ps, eta_scale) * s.eta_scale : (lfloat)(1.0f);
   lfloat m = l3_max3(thr) * eta_scale;
   go = go && m > 0.0f && isfinite(m);
   PS_KEEP(ps, go);
   if (!L_ANY(go)) return done;
-  PS_SET_F(ps, eta_scale, eta_scale);
+  if (AW_FEAT_REFRACTION) PS_SET_F(ps, eta_scale, eta_scale);
   lfloat q = (lfloat)(1.0f);
   q = L_SEL(bounce + 1u >= rp->rr_depth, fmin((lfloat)(1.0f), sqrt(m)), q);
   q = L_SEL(m < cutoff, fmin(q, m / cutoff), q);
@@ -94,10 +97,11 @@ AW_FN luint shade_continue(PathRef ps, const RenderParams* rp, lfloat3 p, lfloat
   // The ray cone widens by the lobe's angular spread, taken as 1/sqrt(pdf): the solid angle a
   // sample of density pdf stands for (the footprint of path differentials by the sampling
   // density: Suykens & Willems 2001, "Path Differentials and Applications", EGWR, Sec. 4);
-  // a delta lobe keeps it (a mirror's curvature is ignored). Bounded by pi/2.
+  // a delta lobe keeps it (a mirror's curvature is ignored). Bounded by pi/2. Only textures
+  // read the cone (classify_texture_point).
   lmask specular = (s.flags & AW_LOBE_SPECULAR) != 0u;
   lmask widen = !specular && s.pdf > 0.0f;
-  if (L_ANY(widen)) {
+  if (AW_FEAT_TEXTURE && L_ANY(widen)) {
     PathRef pw = ps;
     PS_KEEP(pw, widen);
     PS_SET_F(pw, cone_s, PS_LF(pw, cone_s) + fmin(1.0f / sqrt(s.pdf), 1.5707964f));
