@@ -296,11 +296,14 @@ static inline luint sort_key(lfloat3 o, lfloat3 d, float4 lo, float4 per_unit) {
 
 // The extension rays of the slots [first, first + span) (the paths tagged RAY) in the order of
 // their bins: their slots into order[0, n), then W - 1 copies of the last (the last block's idle
-// lanes gather a real slot). Returns n. A stable counting sort, so each bin keeps its slots in
-// slot order.
+// lanes gather a real slot); and each slot's place in that order into rank[slot - first]
+// (AW_SORT_NO_RANK for a slot with no ray). Returns n. A stable counting sort, so each bin keeps
+// its slots in slot order.
+#define AW_SORT_NO_RANK 0xffffu
+typedef char aw_sort_rank_fits_a_ushort[AW_SORT_SPAN < AW_SORT_NO_RANK ? 1 : -1];
 static inline uint sort_span(__global const uint* tags, __global const float* sf, uint P, uint first, uint span,
-                             float4 lo, float4 per_unit, uint* order) {
-  ushort key[AW_SORT_SPAN];  // a slot's bin; AW_SORT_BINS: no ray to trace
+                             float4 lo, float4 per_unit, uint* order, ushort* rank) {
+  ushort* key = rank;  // a slot's bin (AW_SORT_BINS: no ray to trace), then its rank
   for (uint i = 0u; i < span; i += AW_LANES) {
     const uint slot0 = first + i;
     lmask live = L_LOAD(tags + slot0, 0) == (uint)(AW_Q_RAY);
@@ -321,8 +324,16 @@ static inline uint sort_span(__global const uint* tags, __global const float* sf
     n += c;
   }
   if (n == 0u) return 0u;
-  for (uint i = 0u; i < span; ++i)
-    if (key[i] < AW_SORT_BINS) order[start[key[i]]++] = first + i;
+  for (uint i = 0u; i < span; ++i) {
+    const uint b = key[i];
+    if (b < AW_SORT_BINS) {
+      const uint r = start[b]++;
+      order[r] = first + i;
+      key[i] = (ushort)r;
+    } else {
+      key[i] = (ushort)AW_SORT_NO_RANK;
+    }
+  }
   for (uint i = n; i < n + AW_LANES; ++i) order[i] = order[n - 1u];
   return n;
 }
@@ -343,31 +354,36 @@ __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(1, 1, 1))) void ke
   float4 lo, per_unit;
   sort_grid(nodes, rp.num_nodes, &lo, &per_unit);
   uint order[AW_SORT_SPAN + AW_LANES];
-  const uint n = sort_span(tags, sf, P, first, span, lo, per_unit, order);
+  ushort rank[AW_SORT_SPAN];
+  const uint n = sort_span(tags, sf, P, first, span, lo, per_unit, order, rank);
+  if (n == 0u) return;
+  // The hits in the sorted order, then back to the slots in slot order. Why not stored straight
+  // to each lane's slot: those stores go to 6 lines anywhere in the span's 96 KiB of hit fields,
+  // one word each, and held 18% of the stage's samples (perf, Intel's runtime, Zen 4); loads
+  // from these arrays by rank overlap where scattered stores queue (docs/performance.md,
+  // "The sorted hits written back in slot order").
+  float hs_t[AW_SORT_SPAN + AW_LANES], hs_u[AW_SORT_SPAN + AW_LANES], hs_v[AW_SORT_SPAN + AW_LANES];
+  uint hs_prim[AW_SORT_SPAN + AW_LANES], hs_inst[AW_SORT_SPAN + AW_LANES], hs_light[AW_SORT_SPAN + AW_LANES];
   for (uint p = 0u; p < n; p += AW_LANES) {
     luint slot = L_LOAD(order + p, 0);
     lmask live = (luint)(p) + AW_LANE_IDS < (luint)(n);
     lmask camera = L_GATHER_V(uint, su + (uint)AW_SU_bounce * P, slot) == 0u;
     ClosestHit c = closest_hit_of(sc, &rp, AW_GATHER_F3(AW_SF_ray_ox, slot), AW_GATHER_F3(AW_SF_ray_dx, slot), camera, live);
-    // Back to the slots, lane by lane (the lanes' slots are anywhere in the span).
-    float ht[AW_LANES], hu[AW_LANES], hv[AW_LANES];
-    uint hp[AW_LANES], hi[AW_LANES], hl[AW_LANES];
-    L_STORE(c.t, ht, 0);
-    L_STORE(c.u, hu, 0);
-    L_STORE(c.v, hv, 0);
-    L_STORE(c.prim, hp, 0);
-    L_STORE(c.inst, hi, 0);
-    L_STORE(c.light, hl, 0);
-    const uint m = min((uint)AW_LANES, n - p);
-    for (uint k = 0u; k < m; ++k) {
-      const uint s = order[p + k];
-      sf[(uint)AW_SF_hit_t * P + s] = ht[k];
-      sf[(uint)AW_SF_hit_u * P + s] = hu[k];
-      sf[(uint)AW_SF_hit_v * P + s] = hv[k];
-      su[(uint)AW_SU_hit_prim * P + s] = hp[k];
-      su[(uint)AW_SU_hit_inst * P + s] = hi[k];
-      su[(uint)AW_SU_hit_light * P + s] = hl[k];
-    }
+    L_STORE(c.t, hs_t + p, 0);
+    L_STORE(c.u, hs_u + p, 0);
+    L_STORE(c.v, hs_v + p, 0);
+    L_STORE(c.prim, hs_prim + p, 0);
+    L_STORE(c.inst, hs_inst + p, 0);
+    L_STORE(c.light, hs_light + p, 0);
+  }
+  for (uint i = 0u; i < span; i += AW_LANES) {
+    PathRef ps = AW_STAGE_PATH(first + i);
+    luint r = AW_LCAT(convert_uint, AW_LANES)(AW_LCAT(vload, AW_LANES)(0, rank + i));
+    PS_SET_LIVE(ps, r != (luint)(AW_SORT_NO_RANK));
+    if (!L_ANY(ps.live)) continue;
+    r = L_SEL(ps.live, r, (luint)(0u));
+    ps_set_hit(ps, L_GATHER_V(float, hs_t, r), L_GATHER_V(float, hs_u, r), L_GATHER_V(float, hs_v, r),
+               L_GATHER_V(uint, hs_prim, r), L_GATHER_V(uint, hs_inst, r), L_GATHER_V(uint, hs_light, r));
   }
 }
 
