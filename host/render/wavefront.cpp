@@ -367,7 +367,7 @@ class Wavefront {
   // every stage runs one path per work-item, and the stats say why.
   void build_lanes_program(const FeatureSet& need, const std::string& options) {
     classify_on_lanes_ = false;
-    closest_on_lanes_ = closest_sorted_ = shadow_on_lanes_ = false;
+    closest_on_lanes_ = closest_sorted_ = shadow_on_lanes_ = accumulate_on_lanes_ = false;
     if (!opts_.lanes) {
       st_.lanes = "off (--no-lanes)";
       return;
@@ -421,6 +421,9 @@ class Wavefront {
     closest_on_lanes_ = rays_why.empty();
     closest_sorted_ = closest_on_lanes_ && primitives >= kSortMinPrimitives;
     shadow_on_lanes_ = shadow_why.empty();
+    // accumulate on lanes leaves out per-lobe splits (a split path goes back to its lobe's queue
+    // from accumulate_path, one path per call; kernels/integrator/accumulate.h).
+    accumulate_on_lanes_ = !need.on[FeatureSet::SPLIT];
     // The stages in pipeline order; with a narrow program, its stages after a "; 8:".
     std::string narrow;
     auto name = [&](bool narrow_stage, const char* stage) {
@@ -434,6 +437,7 @@ class Wavefront {
     AW_LOBE_LIST_ON_LANES(AW_LANES_STAGE_NAME)
 #undef AW_LANES_STAGE_NAME
     if (shadow_on_lanes_) name(true, "intersect_shadow");
+    if (accumulate_on_lanes_) name(false, "accumulate");
     if (!narrow.empty()) st_.lanes += "; " + std::to_string(narrow_lanes_) + ":" + narrow;
     if (!closest_on_lanes_ && !shadow_on_lanes_ && rays_why == shadow_why)
       st_.lanes += " (the ray stages one path per work-item: " + rays_why + ")";
@@ -442,6 +446,7 @@ class Wavefront {
     if (!shadow_on_lanes_ && (closest_on_lanes_ || rays_why != shadow_why))
       st_.lanes += " (intersect_shadow one path per work-item: " + shadow_why + ")";
     if (!classify_on_lanes_) st_.lanes += " (classify_hit one path per work-item: the scene needs " + classify_why + ")";
+    if (!accumulate_on_lanes_) st_.lanes += " (accumulate one path per work-item: the scene needs split)";
   }
 
   void allocate() {
@@ -613,9 +618,14 @@ class Wavefront {
       s.lanes_kernel = cl::Kernel(narrow_program_, "kernel_intersect_shadow_lanes");
       bind_stage_args(s.lanes_kernel, buf_);
     }
-    // regenerate takes part of the free queue, accumulate sees small queues:
-    // they run over their queue entries only.
-    accum_ = add("accumulate", AW_Q_DONE, false, true, true);
+    // accumulate's queue launch runs over its queue entries only; its lane form (a dense
+    // launch) over every DONE-tagged slot of the pool (kernels_lanes.cl).
+    accum_ = add("accumulate", AW_Q_DONE, accumulate_on_lanes_, true, true);
+    if (accumulate_on_lanes_) {
+      Stage& s = stages_[accum_];
+      s.lanes_kernel = cl::Kernel(lanes_program_, "kernel_accumulate_lanes");
+      bind_stage_args(s.lanes_kernel, buf_);
+    }
     film_ = add("film_accumulate", -1, false, false, true);
   }
 
@@ -920,6 +930,7 @@ class Wavefront {
   bool closest_sorted_ = false;     // and sorts its rays first (kSortMinPrimitives)
   bool closest_on_lanes_ = false;   // its intersect_closest too (build_lanes_program)
   bool shadow_on_lanes_ = false;    // its intersect_shadow too (build_lanes_program)
+  bool accumulate_on_lanes_ = false;  // its accumulate too (build_lanes_program)
   RenderParams rp_{};
   uint32_t npix_ = 0, pool_ = 0, max_batch_ = 0, ring_jobs_ = 0;
   uint32_t first_sample_ = 0;  // the sample of job 0 (begin_film)

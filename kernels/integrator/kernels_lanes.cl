@@ -24,6 +24,7 @@
 #error "kernels_lanes.cl is built with -DAW_LANES=8 or 16"
 #endif
 
+#include "integrator/accumulate.h"
 #include "integrator/classify_hit.h"
 #include "integrator/generate_camera_ray.h"
 #include "integrator/intersect_closest.h"
@@ -218,6 +219,52 @@ AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
     AW_RECORD_LANES(b, L_SEL(ps.live, q, (luint)(AW_Q_COUNT)), slot0);
   }
   AW_FLUSH_APPENDS();
+}
+
+// accumulate on lanes: the paths that ended (tag DONE), W per block. Each lane's sample value
+// (path_result, the queue launch's own function) goes to samples[job], its slot to FREE; the
+// counters the queue launch adds one to per path (finished jobs per half of the batch ring,
+// discarded samples, missing features) take one atomic each per work-item. Why: the queue
+// launch of kernels.cl reads the radiance, job and flags of each path from a cache line of its
+// own and aggregates its appends per work-group behind barriers, 106 cycles a path on
+// Intel's runtime; a block's 16 paths share each line (docs/performance.md, "Accumulate on
+// lanes"). Built only for renders without per-lobe splits and AOVs (accumulate_path's W = 1
+// parts), which the lane program already excludes or the host checks (wavefront.cpp).
+AW_STAGE_KERNEL_SCALAR(kernel_accumulate_lanes) {
+  AW_LANES_WORK_ITEM;
+  uint finished_lo = 0u, finished_hi = 0u, bad = 0u, missing = 0u;
+  for (uint b = 0u; b < AW_LANE_BLOCKS; ++b) {
+    AW_LANES_BLOCK(b, L_LOAD(tags + slot0, 0) == (uint)(AW_Q_DONE));
+    lmask bad_m;
+    lfloat k;
+    lfloat3 l = path_result(ps, &rp, &bad_m, &k);
+    luint job = PS_LU(ps, job);
+    lmask hi = job >= (luint)(job_start);
+    bad += popcount(lane_bits(ps.live && bad_m));
+    missing += popcount(lane_bits(ps.live && (PS_LU(ps, flags) & AW_PATH_MISSING_FEATURE) != 0u));
+    uint live = lane_bits(ps.live);
+    uint up = lane_bits(ps.live && hi);
+    finished_hi += popcount(up);
+    finished_lo += popcount(live & ~up);
+    float lx[AW_LANES], ly[AW_LANES], lz[AW_LANES];
+    uint jobs[AW_LANES];
+    L_STORE(l.x, lx, 0);
+    L_STORE(l.y, ly, 0);
+    L_STORE(l.z, lz, 0);
+    L_STORE(job, jobs, 0);
+    for (uint m = live; m != 0u; m &= m - 1u) {
+      const uint i = popcount((m & (0u - m)) - 1u);
+      samples[jobs[i] * 3u + 0u] = lx[i];
+      samples[jobs[i] * 3u + 1u] = ly[i];
+      samples[jobs[i] * 3u + 2u] = lz[i];
+    }
+    AW_RECORD_LANES(b, L_SEL(ps.live, (luint)(AW_Q_FREE), (luint)(AW_Q_COUNT)), slot0);
+  }
+  AW_FLUSH_APPENDS();
+  if (finished_lo != 0u) atomic_add(&counters[AW_C_FINISHED], finished_lo);
+  if (finished_hi != 0u) atomic_add(&counters[AW_C_FINISHED + 1], finished_hi);
+  if (bad != 0u) atomic_add(&stats[AW_STAT_BAD_SAMPLES], bad);
+  if (missing != 0u) atomic_add(&stats[AW_STAT_MISSING_FEATURE], missing);
 }
 
 // The ray stages on lanes: W rays at a time through bvh/traverse_lanes.h. The closest hit's

@@ -52,12 +52,12 @@ TEST(Lanes, SameFilmWithAndWithoutLanes) {
     const char* lanes;  // the stats' account of the stages on lanes, at 16
     const char* narrow;  // the same with the narrow stages at 8; null: not run at 8
   };
-  const char* all = "16 paths per work-item: regenerate intersect_closest classify_hit shade_diffuse intersect_shadow";
-  const char* all8 = "16 paths per work-item: regenerate shade_diffuse; 8: intersect_closest classify_hit intersect_shadow";
+  const char* all = "16 paths per work-item: regenerate intersect_closest classify_hit shade_diffuse intersect_shadow accumulate";
+  const char* all8 = "16 paths per work-item: regenerate shade_diffuse accumulate; 8: intersect_closest classify_hit intersect_shadow";
   // Scenes of at least 16 primitives sort the closest hit's rays (wavefront.cpp, kSortMinPrimitives).
-  const char* sorted = "16 paths per work-item: regenerate intersect_closest(sorted) classify_hit shade_diffuse intersect_shadow";
+  const char* sorted = "16 paths per work-item: regenerate intersect_closest(sorted) classify_hit shade_diffuse intersect_shadow accumulate";
   const char* sorted8 =
-      "16 paths per work-item: regenerate shade_diffuse; 8: intersect_closest(sorted) classify_hit intersect_shadow";
+      "16 paths per work-item: regenerate shade_diffuse accumulate; 8: intersect_closest(sorted) classify_hit intersect_shadow";
   const std::vector<std::string> small = {"render.width=96", "render.height=64", "render.spp=8"};
   std::vector<std::string> every_fresnel = kMaterialsClassifiedOnLanes;
   every_fresnel.push_back("materials.plastic.reflection2={\"weight\": 0.5, \"glossiness\": 0.4}");
@@ -114,6 +114,47 @@ TEST(Lanes, RegenerateOnLanesKeepsEveryJobOnce) {
   EXPECT_EQ(differing_words(a, b), 0u);
 }
 
+// accumulate on lanes (kernels_lanes.cl, kernel_accumulate_lanes) discards, clamps and counts as
+// the one-path kernel does: a quad light of intensity 3e38 makes samples overflow to Inf (each
+// discarded and counted), and render.clamp scales the others; every launch of every stage on
+// lanes, the film word for word and the discarded samples' count the one-path kernels', and
+// the same again at a pool of 256 slots in batches of 37 jobs (the finished jobs counted per half
+// of the batch ring, which end inside a work-item's lanes). A per-lobe split keeps accumulate one
+// path per call (accumulate_path sends the next split to its lobe's queue).
+TEST(Lanes, AccumulateOnLanesDiscardsClampsAndCountsAsOnePathPerCall) {
+  const std::string hot =
+      "lights=[{\"type\": \"quad\", \"corner\": [-0.25, 1.995, -0.25], \"edge_u\": [0.5, 0, 0], "
+      "\"edge_v\": [0, 0, 0.5], \"color\": [1, 1, 1], \"intensity\": 3e38}, {\"type\": \"point\", "
+      "\"position\": [0.55, 1.55, 0.6], \"color\": [0.6, 0.7, 1.0], \"intensity\": 0.6}]";
+  for (const std::string& def : {hot, std::string("render.clamp=0.5")})
+    for (const auto& [pool, batch] : std::vector<std::pair<uint32_t, uint32_t>>{{0u, 0u}, {256u, 37u}}) {
+      aw::Scene scene = aw::load_scene(aw_test::source_path("scenes/cornell.json"),
+                                       {"render.width=40", "render.height=24", "render.spp=4", def});
+      aw::RenderOptions on = aw_test::quiet_options();
+      if (pool) on.pool_size = pool;
+      if (batch) on.max_batch = batch;
+      on.dense_fraction = 0.0;
+      aw::RenderOptions off = on;
+      off.lanes = false;
+      aw::RenderResult a = aw::render_wavefront(scene, on), b = aw::render_wavefront(scene, off);
+      const std::string what = def.substr(0, 20) + ", pool " + std::to_string(pool) + ", batch " + std::to_string(batch);
+      EXPECT_NE(a.stats.lanes.find(" accumulate"), std::string::npos) << a.stats.lanes;
+      if (def == hot) {
+        EXPECT_GT(b.stats.bad_samples, 0u) << what;
+      }
+      EXPECT_EQ(a.stats.bad_samples, b.stats.bad_samples) << what;
+      EXPECT_EQ(a.stats.samples, 40u * 24u * 4u) << what;
+      EXPECT_EQ(differing_words(a, b), 0u) << what;
+    }
+  aw::Scene split = aw::load_scene(aw_test::source_path("scenes/materials.json"),
+                                   {"render.width=16", "render.height=16", "render.spp=1",
+                                    "materials.plastic.reflection.samples=4"});
+  aw::RenderResult s = aw::render_wavefront(split, aw_test::quiet_options());
+  EXPECT_EQ(s.stats.lanes.find(" accumulate "), std::string::npos) << s.stats.lanes;
+  EXPECT_NE(s.stats.lanes.find("(accumulate one path per work-item: the scene needs split)"), std::string::npos)
+      << s.stats.lanes;
+}
+
 // The sorted closest hit (kernels_lanes.cl, kernel_intersect_closest_sorted) takes 4,096 slots
 // per work-item: a pool of 4,352 leaves the second work-item 256 (its span cut at the pool's
 // end), and the film is still the one-path kernels' word for word, with every path traced
@@ -149,14 +190,14 @@ TEST(Lanes, RayStagesOnLanesOnlyWhereTheyPay) {
       << a.stats.lanes;
   opts.lane_traversal = 1;
   aw::RenderResult b = aw::render_wavefront(knot, opts);
-  EXPECT_EQ(b.stats.lanes, "16 paths per work-item: regenerate intersect_closest(sorted) classify_hit shade_diffuse intersect_shadow");
+  EXPECT_EQ(b.stats.lanes, "16 paths per work-item: regenerate intersect_closest(sorted) classify_hit shade_diffuse intersect_shadow accumulate");
   EXPECT_EQ(differing_words(a, b), 0u);
   aw::Scene cornell = aw::load_scene(aw_test::source_path("scenes/cornell.json"),
                                      {"render.width=16", "render.height=16", "render.spp=1"});
   opts.lane_traversal = 0;
   aw::RenderResult c = aw::render_wavefront(cornell, opts);
   EXPECT_EQ(c.stats.lanes,
-            "16 paths per work-item: regenerate classify_hit shade_diffuse (the ray stages one path per work-item: "
+            "16 paths per work-item: regenerate classify_hit shade_diffuse accumulate (the ray stages one path per work-item: "
             "--lane-traversal off)");
 }
 
@@ -209,6 +250,9 @@ TEST(Lanes, OffForWhatIsStillOnePathPerCall) {
   const std::string classify_off =
       "16 paths per work-item: regenerate intersect_closest shade_diffuse intersect_shadow (classify_hit one path per "
       "work-item: the scene needs ";
+  // (materials.json's lobes have per-lobe samples, 8 by default: at 1 spp they split, which keeps
+  // accumulate one path per call.)
+  const std::string split_off = " (accumulate one path per work-item: the scene needs split)";
   aw::RenderOptions opts = aw_test::quiet_options();
   opts.lane_traversal = 1;
   opts.narrow_lanes = 16;
@@ -222,7 +266,7 @@ TEST(Lanes, OffForWhatIsStillOnePathPerCall) {
       d.push_back(def);
     }
     aw::Scene sc = aw::load_scene(aw_test::source_path("scenes/materials.json"), d);
-    EXPECT_EQ(aw::render_wavefront(sc, opts).stats.lanes, classify_off + why + ")");
+    EXPECT_EQ(aw::render_wavefront(sc, opts).stats.lanes, classify_off + why + ")" + split_off);
   }
 }
 
