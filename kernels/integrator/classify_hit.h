@@ -171,7 +171,7 @@ AW_FN HitVertices classify_vertices(PathRef ps, SceneRef sc, luint prim) {
   HitVertices hv;
 #if AW_LANES == 1
   const AW_GLOBAL TriangleInfo* tri = &sc.tri_info[prim];
-  uint inst = PS_U(ps, hit_inst);
+  uint inst = AW_FEAT_INSTANCE ? PS_U(ps, hit_inst) : AW_NONE;
   hv.mirrored = AW_FEAT_INSTANCE && inst != AW_NONE && (sc.insts[inst].flags & AW_INSTANCE_MIRROR);
   hv.sphere = AW_FEAT_SPHERE && tri->v[1] == AW_SPHERE_MARK;
   hv.v[0] = vertex_world(sc, inst, tri->v[0]);

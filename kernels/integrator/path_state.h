@@ -3,6 +3,7 @@
 #define AW_INTEGRATOR_PATH_STATE_H
 
 #include "common/compat.h"
+#include "common/features.h"
 #include "common/lanes.h"
 #include "common/rng.h"
 #include "types/scene.h"
@@ -117,13 +118,15 @@ AW_FN lfloat3 ps_lobe_weight(PathRef ps) { return make_lfloat3(PS_LF(ps, lobe_wr
 AW_FN lfloat3 ps_sp_unbumped_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_bx), PS_LF(ps, sp_by), PS_LF(ps, sp_bz)); }
 AW_FN lfloat3 ps_sp_geo_normal(PathRef ps) { return make_lfloat3(PS_LF(ps, sp_gx), PS_LF(ps, sp_gy), PS_LF(ps, sp_gz)); }
 
-// Writes the closest hit of the extension ray (both intersectors end here).
+// Writes the closest hit of the extension ray (both intersectors end here). The instance only
+// where the build has instances: nothing else reads it (integrator/classify_hit.h), and the
+// lane kernels that write hits are built for scenes without them.
 AW_FN void ps_set_hit(PathRef ps, lfloat t, lfloat u, lfloat v, luint prim, luint inst, luint light) {
   PS_SET_F(ps, hit_t, t);
   PS_SET_F(ps, hit_u, u);
   PS_SET_F(ps, hit_v, v);
   PS_SET_U(ps, hit_prim, prim);
-  PS_SET_U(ps, hit_inst, inst);
+  if (AW_FEAT_INSTANCE) PS_SET_U(ps, hit_inst, inst);
   PS_SET_U(ps, hit_light, light);
 }
 
