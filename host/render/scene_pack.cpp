@@ -491,6 +491,9 @@ PackedScene pack_scene(const Scene& scene, std::vector<std::string>* warnings) {
   const double rotation = env.type == EnvironmentDesc::Type::Map ? double(env.rotation) * M_PI / 180.0 : 0.0;
   rp.env_rot_cos = float(std::cos(rotation));
   rp.env_rot_sin = float(std::sin(rotation));
+  // Each material's own features, from the table as it goes to the device (the lane programs'
+  // feature guard reads them: kernels/material/architectural.h, material_uses_missing_feature).
+  for (MaterialGpu& m : ps.materials) m.features = material_features(&m);
   // The scene's features, decided once (host/render/features.cpp), and what follows from them.
   ps.features = decide_features(ps, rs);
   rp.split_spp = ps.features.on[FeatureSet::SPLIT] ? uint32_t(rs.spp) : 0u;

@@ -180,8 +180,18 @@ AW_FN luint material_features(MatL m) {
 }
 #undef AW_MAT_FEATURE_IF
 
+// At W = 1 the material as shaded (textured inputs applied: integrator/shading_material.h) is
+// judged at the hit. A lane program is built only for scenes without textures, where the
+// material shaded is the table's, so it reads the bits the host computed with
+// material_features from that very entry (MaterialGpu.features, pack_scene): one field per lane
+// instead of twenty, which had been 15% of classification on lanes (perf with line numbers,
+// Intel's runtime; docs/performance.md, "The feature guard from the table").
 AW_FN lmask material_uses_missing_feature(MatL m) {
+#if AW_LANES == 1
   return (material_features(m) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
+#else
+  return (MAT_U(m, features) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
+#endif
 }
 
 // Picks a lobe with probability prob[]; returns AW_LID_COUNT when no lobe has weight. On

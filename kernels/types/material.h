@@ -95,7 +95,10 @@ typedef struct {
   uint bump_binding;    // bump.input's binding (the height, in scene units per unit value), or AW_NONE
   float bump_scale;     // bump.scale
   uint no_bump_lobes;   // bit AW_LID_x set: lobe x shades with the unbumped normal (disable_bump)
-  uint tex_pad[2];
+  // material_features() of this material as packed (material/architectural.h), set by the host
+  // once the table is final (pack_scene): what a lane program's feature guard reads per hit.
+  uint features;
+  uint tex_pad;
 } MaterialGpu;
 
 #endif
