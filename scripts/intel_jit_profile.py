@@ -14,6 +14,10 @@ Usage (docs/performance.md, "Profiling Intel's runtime by instruction"):
   perf record -e cpu-clock -o perf.data -- build/archwave scenes/cornell.json --device intel ...
   scripts/intel_jit_profile.py perf.data build/kernel-cache/*.bin [--top 12] [--asm out.asm]
 
+With the kernels built with line tables (ARCHWAVE_CL_OPTIONS=-g, docs/cli.md: Intel's runtime
+still optimises them), `--lines FUNCTION` also prints that function's samples per source line
+(addr2line; inlined code counts at its own header's line).
+
 Each cached binary is tried; those that explain no samples are skipped. A sample's
 instruction is the one after the one that cost the time (skid): after a `lock` instruction
 it is the atomic's cost.
@@ -71,7 +75,11 @@ def main():
     ap.add_argument("binaries", nargs="+")
     ap.add_argument("--top", type=int, default=12, help="hottest instructions to show per program")
     ap.add_argument("--asm", help="write the annotated disassembly (samples per instruction) here")
+    ap.add_argument("--lines", metavar="FUNCTION",
+                    help="samples of this function per source line (kernels built with ARCHWAVE_CL_OPTIONS=-g)")
     args = ap.parse_args()
+    if args.asm:
+        open(args.asm, "w").close()  # one run's listing (the programs are appended below)
     samples = jit_samples(args.perf_data)
     if not samples:
         sys.exit("intel_jit_profile: no JIT samples in " + args.perf_data)
@@ -105,11 +113,11 @@ def main():
             if m:
                 offs[int(m.group(1), 16)] = i
         if offs:
-            progs.append((path, lines, offs, syms))
+            progs.append((path, lines, offs, syms, obj))
     claimed = collections.Counter()
     while progs:
         scored = []
-        for k, (path, lines, offs, syms) in enumerate(progs):
+        for k, (path, lines, offs, syms, _) in enumerate(progs):
             votes = collections.Counter(a - o for a in hot if a not in claimed for o in offs)
             best = (0, 0)
             for base, _ in votes.most_common(8):
@@ -117,7 +125,7 @@ def main():
                 best = max(best, (hit, base))
             scored.append((best[0], best[1], k))
         hit, base, k = max(scored)
-        path, lines, offs, syms = progs.pop(k)
+        path, lines, offs, syms, obj = progs.pop(k)
         if hit < 0.02 * total:
             break
         span = max(offs)
@@ -141,6 +149,8 @@ def main():
             i = offs[off]
             print(f"  {n:6d}  " + lines[i].strip())
             print(f"          before: " + lines[i - 1].strip())
+        if args.lines:
+            print_lines(obj, syms, at, args.lines)
         for a, n in samples.items():
             if 0 <= a - base <= span:
                 claimed[a] = n
@@ -151,6 +161,31 @@ def main():
                     m = re.match(r"\s+([0-9a-f]+):", line)
                     n = at.get(int(m.group(1), 16), 0) if m else 0
                     out.write(f"{n:6d} {line}\n" if m else f"       {line}\n")
+
+
+def print_lines(obj, syms, at, function):
+    """Samples per source line of `function` (offsets `at` within the object's code)."""
+    def name_at(off):
+        name = "?"
+        for s, nm in syms:
+            if off >= s:
+                name = nm
+        return name
+    offs = [(off, n) for off, n in at.items() if name_at(off) == function]
+    if not offs:
+        return
+    with tempfile.NamedTemporaryFile(suffix=".o") as f:
+        f.write(obj)
+        f.flush()
+        where = subprocess.run(["addr2line", "-e", f.name] + [hex(o) for o, _ in offs],
+                               capture_output=True, text=True).stdout.splitlines()
+    per = collections.Counter()
+    for (_, n), w in zip(offs, where):
+        per[re.sub(r" \(discriminator \d+\)", "", w).rsplit("/", 1)[-1]] += n
+    total = sum(per.values())
+    print(f"  {function} by source line ({total} samples; '?' where the line table has none):")
+    for w, n in per.most_common(40):
+        print(f"  {n:6d}  {100.0 * n / total:5.1f}%  {w}")
 
 
 if __name__ == "__main__":

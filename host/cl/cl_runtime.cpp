@@ -163,7 +163,10 @@ std::string device_build_options(const DeviceInfo& device, const std::string& op
 }
 
 cl::Program ClRuntime::build(const std::string& source, const std::string& requested, double* seconds) {
-  const std::string options = device_build_options(info_, requested);
+  std::string options = device_build_options(info_, requested);
+  // Development aid: extra build options, e.g. -g so that a profile of Intel's JIT code maps to
+  // source lines (scripts/intel_jit_profile.py --lines; docs/cli.md). Part of the cache key.
+  if (const char* extra = std::getenv("ARCHWAVE_CL_OPTIONS"); extra && *extra) options += std::string(" ") + extra;
   auto t0 = std::chrono::steady_clock::now();
   auto done = [&](cl::Program p) {
     if (seconds) *seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
