@@ -137,11 +137,7 @@ def main():
             if off not in offs or a in claimed:
                 continue
             at[off] += n
-            name = "?"
-            for s, nm in syms:
-                if off >= s:
-                    name = nm
-            per[name] += n
+            per[symbol_at(syms, off)] += n
         for name, n in per.most_common():
             print(f"  {n:6d}  {100.0 * n / hit:5.1f}%  {name}")
         print(f"  hottest instructions (the line before each is the one that was waited on):")
@@ -163,15 +159,18 @@ def main():
                     out.write(f"{n:6d} {line}\n" if m else f"       {line}\n")
 
 
+def symbol_at(syms, off):
+    """The function (syms: (start, name) by address) that holds code offset `off`."""
+    name = "?"
+    for s, nm in syms:
+        if off >= s:
+            name = nm
+    return name
+
+
 def print_lines(obj, syms, at, function):
     """Samples per source line of `function` (offsets `at` within the object's code)."""
-    def name_at(off):
-        name = "?"
-        for s, nm in syms:
-            if off >= s:
-                name = nm
-        return name
-    offs = [(off, n) for off, n in at.items() if name_at(off) == function]
+    offs = [(off, n) for off, n in at.items() if symbol_at(syms, off) == function]
     if not offs:
         return
     with tempfile.NamedTemporaryFile(suffix=".o") as f:

@@ -45,7 +45,7 @@ AW_FN void generate_camera_ray(PathRef ps, const RenderParams* rp, luint job) {
   // The fields below are read only by the features named beside them; a build without those
   // features neither reads nor writes them (design principle 4, docs/design.md: kernels model
   // only what the scene requires; a camera path on lanes writes a cache line per field per 16
-  // paths, docs/performance.md, "State fields a scene does not use").
+  // paths, docs/performance.md, "State fields, sorted hits in slot order, accumulate on lanes").
   if (AW_FEAT_REFRACTION) PS_SET_F(ps, eta_scale, (lfloat)(1.0f));  // Russian roulette's eta^2
   if (AW_FEAT_REFLECTION | AW_FEAT_REFRACTION) PS_SET_U(ps, depths, (luint)(0u));  // trace depths
   if (AW_FEAT_FOG) PS_SET_U(ps, medium, (luint)(AW_NONE));  // cameras start outside every object

@@ -227,9 +227,10 @@ AW_STAGE_KERNEL_SCALAR(kernel_classify_hit_lanes) {
 // discarded samples, missing features) take one atomic each per work-item. Why: the queue
 // launch of kernels.cl reads the radiance, job and flags of each path from a cache line of its
 // own and aggregates its appends per work-group behind barriers, 106 cycles a path on
-// Intel's runtime; a block's 16 paths share each line (docs/performance.md, "Accumulate on
-// lanes"). Built only for renders without per-lobe splits and AOVs (accumulate_path's W = 1
-// parts), which the lane program already excludes or the host checks (wavefront.cpp).
+// Intel's runtime; a block's 16 paths share each line (docs/performance.md, "State fields,
+// sorted hits in slot order, accumulate on lanes"). Built only for renders without per-lobe
+// splits and AOVs (accumulate_path's W = 1 parts), which the lane program already excludes or
+// the host checks (wavefront.cpp).
 AW_STAGE_KERNEL_SCALAR(kernel_accumulate_lanes) {
   AW_LANES_WORK_ITEM;
   uint finished_lo = 0u, finished_hi = 0u, bad = 0u, missing = 0u;
@@ -408,9 +409,10 @@ __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(1, 1, 1))) void ke
   // to each lane's slot: those stores go to 6 lines anywhere in the span's 96 KiB of hit fields,
   // one word each, and held 18% of the stage's samples (perf, Intel's runtime, Zen 4); loads
   // from these arrays by rank overlap where scattered stores queue (docs/performance.md,
-  // "The sorted hits written back in slot order").
+  // "State fields, sorted hits in slot order, accumulate on lanes").
   float hs_t[AW_SORT_SPAN + AW_LANES], hs_u[AW_SORT_SPAN + AW_LANES], hs_v[AW_SORT_SPAN + AW_LANES];
-  uint hs_prim[AW_SORT_SPAN + AW_LANES], hs_inst[AW_SORT_SPAN + AW_LANES], hs_light[AW_SORT_SPAN + AW_LANES];
+  // (No instance: the lane traversal has none, bvh/traverse_lanes.h, so every hit's is AW_NONE.)
+  uint hs_prim[AW_SORT_SPAN + AW_LANES], hs_light[AW_SORT_SPAN + AW_LANES];
   for (uint p = 0u; p < n; p += AW_LANES) {
     luint slot = L_LOAD(order + p, 0);
     lmask live = (luint)(p) + AW_LANE_IDS < (luint)(n);
@@ -420,7 +422,6 @@ __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(1, 1, 1))) void ke
     L_STORE(c.u, hs_u + p, 0);
     L_STORE(c.v, hs_v + p, 0);
     L_STORE(c.prim, hs_prim + p, 0);
-    L_STORE(c.inst, hs_inst + p, 0);
     L_STORE(c.light, hs_light + p, 0);
   }
   for (uint i = 0u; i < span; i += AW_LANES) {
@@ -430,7 +431,7 @@ __kernel AW_SCALAR_KERNEL __attribute__((reqd_work_group_size(1, 1, 1))) void ke
     if (!L_ANY(ps.live)) continue;
     r = L_SEL(ps.live, r, (luint)(0u));
     ps_set_hit(ps, L_GATHER_V(float, hs_t, r), L_GATHER_V(float, hs_u, r), L_GATHER_V(float, hs_v, r),
-               L_GATHER_V(uint, hs_prim, r), L_GATHER_V(uint, hs_inst, r), L_GATHER_V(uint, hs_light, r));
+               L_GATHER_V(uint, hs_prim, r), (luint)(AW_NONE), L_GATHER_V(uint, hs_light, r));
   }
 }
 

@@ -185,7 +185,7 @@ AW_FN luint material_features(MatL m) {
 // material shaded is the table's, so it reads the bits the host computed with
 // material_features from that very entry (MaterialGpu.features, pack_scene): one field per lane
 // instead of twenty, which had been 15% of classification on lanes (perf with line numbers,
-// Intel's runtime; docs/performance.md, "The feature guard from the table").
+// Intel's runtime; docs/performance.md, "State fields, sorted hits in slot order, accumulate on lanes").
 AW_FN lmask material_uses_missing_feature(MatL m) {
 #if AW_LANES == 1
   return (material_features(m) & ~(uint)(AW_FEAT_COMPILED_MATERIAL_MASK)) != 0u;
